@@ -1,0 +1,1362 @@
+/*
+ * Case files: YAML (libyaml's document API) -> struct sph_case.
+ *
+ * Every map of the format is a table of fields (key, type, range, default,
+ * offset into the struct it fills); one reader walks the tables, and one
+ * writer walks them again for case_write_resolved(). What a table cannot say
+ * (cross-field rules, defaults that depend on other keys) is in the map's
+ * check function. --set overrides are grafted into the document before
+ * validation, so they go through exactly the same checks.
+ */
+#include <ctype.h>
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <yaml.h>
+
+#include "sph_case.h"
+
+/* Enum members are filled through int pointers. */
+_Static_assert(sizeof(enum sph_kernel_type) == sizeof(int), "enum size");
+_Static_assert(sizeof(enum sph_eos_type) == sizeof(int), "enum size");
+_Static_assert(sizeof(enum sph_strength_type) == sizeof(int), "enum size");
+_Static_assert(sizeof(enum sph_plane_mode) == sizeof(int), "enum size");
+_Static_assert(sizeof(enum sph_load_law) == sizeof(int), "enum size");
+_Static_assert(sizeof(enum sph_shape) == sizeof(int), "enum size");
+_Static_assert(sizeof(enum sph_probe_quantity) == sizeof(int), "enum size");
+
+#define ARRAY_LEN(a) ((int)(sizeof(a) / sizeof *(a)))
+#define MAX_FIELDS 16
+#define KEY_MAX 256
+/* start_mark.line of nodes grafted by --set: no file line can be this. */
+#define SET_LINE ((size_t)-1)
+
+enum kind { K_NUMBER, K_INT, K_BOOL, K_ENUM, K_STRING, K_NAME, K_REF, K_VECTOR, K_MAP, K_LIST };
+enum range { R_ANY, R_POSITIVE, R_NONNEG, R_CLOSED, R_OPEN, R_LEFT_OPEN };
+enum flag {
+    F_REQUIRED = 1,
+    F_2D_ONLY = 2,   /* an error in 3-D; not written in 3-D */
+    F_OMIT_ZERO = 4, /* only valid when positive, so 0 means "not given" */
+    F_UNIQUE = 8,    /* unique among the items of the list */
+    F_ENABLE = 16    /* K_MAP: set the int at aux to 1 when the map is given */
+};
+enum ref_kind { REF_MATERIAL, REF_BODY, REF_GROUP };
+
+struct ctx;
+struct frame;
+struct schema;
+
+struct field {
+    const char *key;
+    enum kind kind;
+    unsigned flags;
+    enum range range;
+    double lo, hi; /* range; K_INT bounds; K_LIST item count bounds */
+    double def;    /* default of K_NUMBER, K_INT, K_BOOL, K_ENUM (index), K_REF */
+    size_t offset; /* of the member, from the start of the struct the map fills */
+    size_t aux;    /* K_STRING, K_NAME: buffer size; K_VECTOR: length (0: dimension);
+                      K_REF: enum ref_kind; K_LIST: offset of the count;
+                      K_MAP with F_ENABLE: offset of the flag */
+    const char *unit;
+    const char *what;         /* replaces the generated "expected ..." text */
+    const char *const *names; /* K_ENUM */
+    const struct schema *sub; /* K_MAP (base shifted by offset), K_LIST (items) */
+};
+
+struct schema {
+    const struct field *fields;
+    int count;
+    size_t size; /* of one item when the map is a list item */
+    int (*check)(struct ctx *x, const struct frame *fr, void *base);
+};
+
+/* One map being read: which node holds each field. */
+struct frame {
+    const struct schema *schema;
+    int blame;             /* node whose line names the map */
+    int value[MAX_FIELDS]; /* value node of each field; 0 when absent */
+    int at[MAX_FIELDS];    /* node whose line names the field */
+};
+
+struct ctx {
+    const char *path;
+    yaml_document_t *doc;
+    struct sph_case *c;
+    char key[KEY_MAX]; /* key path being read, e.g. "bodies.0.max" */
+    char sub[KEY_MAX];
+    char *error;
+    size_t error_size, error_len;
+};
+
+static const char *const kernel_names[] = {
+    "cubic_spline", "gaussian", "quintic_spline", "wendland_c2", "double_cosine",
+    "hyperbolic",   NULL};
+_Static_assert(ARRAY_LEN(kernel_names) == SPH_KERNEL_COUNT + 1, "one name per kernel");
+static const char *const plane_names[] = {"stress", "strain", NULL};
+static const char *const eos_names[] = {"linear", NULL};
+static const char *const strength_names[] = {"elastic", "perfectly_plastic", NULL};
+static const char *const shape_names[] = {"box", NULL};
+static const char *const law_names[] = {"constant", "linear_ramp", "quadratic_ramp", NULL};
+static const char *const quantity_names[] = {"displacement_x", "displacement_y", "displacement_z",
+                                             NULL};
+static const char *const precision_names[] = {"float", "double", NULL};
+static const char *const ref_nouns[] = {"material", "body", "group"};
+
+/* ---- errors ------------------------------------------------------------ */
+
+static void vput(struct ctx *x, const char *fmt, va_list ap)
+{
+    if (!x->error || x->error_len + 1 >= x->error_size)
+        return;
+    const int n = vsnprintf(x->error + x->error_len, x->error_size - x->error_len, fmt, ap);
+    if (n > 0)
+        x->error_len += (size_t)n;
+    if (x->error_len >= x->error_size)
+        x->error_len = x->error_size - 1;
+}
+
+static void put(struct ctx *x, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vput(x, fmt, ap);
+    va_end(ap);
+}
+
+static yaml_node_t *node(struct ctx *x, int id)
+{
+    return id ? yaml_document_get_node(x->doc, id) : NULL;
+}
+
+static int from_set(struct ctx *x, int id)
+{
+    const yaml_node_t *n = node(x, id);
+    return n && n->start_mark.line == SET_LINE;
+}
+
+/* "<path>:<line>: <key path>: message", or "<path>: --set <key path>: message"
+ * when the node came from --set; `id` 0 gives no line. Returns -1. */
+static int fail(struct ctx *x, int id, const char *key_path, const char *fmt, ...)
+{
+    const yaml_node_t *n = node(x, id);
+    const int has_key = key_path && *key_path;
+    x->error_len = 0;
+    if (n && n->start_mark.line == SET_LINE)
+        put(x, "%s: --set %s: ", x->path, has_key ? key_path : "(top level)");
+    else if (n)
+        put(x, "%s:%zu: %s%s", x->path, n->start_mark.line + 1, has_key ? key_path : "",
+            has_key ? ": " : "");
+    else
+        put(x, "%s: %s%s", x->path, has_key ? key_path : "", has_key ? ": " : "");
+    va_list ap;
+    va_start(ap, fmt);
+    vput(x, fmt, ap);
+    va_end(ap);
+    return -1;
+}
+
+static int fail_set(struct ctx *x, const char *arg, const char *fmt, ...)
+{
+    x->error_len = 0;
+    put(x, "%s: --set '%s': ", x->path, arg ? arg : "");
+    va_list ap;
+    va_start(ap, fmt);
+    vput(x, fmt, ap);
+    va_end(ap);
+    return -1;
+}
+
+/* Appends the strings up to NULL to `dst`, cut to fit `size`. */
+static void append(char *dst, size_t size, ...)
+{
+    size_t n = strlen(dst);
+    va_list ap;
+    va_start(ap, size);
+    for (const char *s = va_arg(ap, const char *); s; s = va_arg(ap, const char *))
+        for (; *s && n + 1 < size; ++s)
+            dst[n++] = *s;
+    va_end(ap);
+    dst[n] = '\0';
+}
+
+static size_t push(struct ctx *x, const char *segment)
+{
+    const size_t n = strlen(x->key);
+    append(x->key, sizeof x->key, n ? "." : "", segment, (char *)NULL);
+    return n;
+}
+
+static void pop(struct ctx *x, size_t mark)
+{
+    x->key[mark] = '\0';
+}
+
+/* The key path of `key` inside the map being read. */
+static const char *subkey(struct ctx *x, const char *key)
+{
+    x->sub[0] = '\0';
+    append(x->sub, sizeof x->sub, x->key, *x->key ? "." : "", key, (char *)NULL);
+    return x->sub;
+}
+
+/* ---- scalars ----------------------------------------------------------- */
+
+static const char *scalar_text(const yaml_node_t *n)
+{
+    if (n->type != YAML_SCALAR_NODE ||
+        strlen((const char *)n->data.scalar.value) != n->data.scalar.length)
+        return NULL;
+    return (const char *)n->data.scalar.value;
+}
+
+static const char *plain_text(const yaml_node_t *n)
+{
+    return n->type == YAML_SCALAR_NODE && n->data.scalar.style == YAML_PLAIN_SCALAR_STYLE
+               ? scalar_text(n)
+               : NULL;
+}
+
+static int parse_number(const yaml_node_t *n, double *v)
+{
+    const char *s = plain_text(n);
+    char *end;
+    if (!s || !*s || isspace((unsigned char)*s))
+        return -1;
+    errno = 0;
+    *v = strtod(s, &end);
+    return *end || errno == ERANGE || !isfinite(*v) ? -1 : 0;
+}
+
+static int parse_int(const yaml_node_t *n, int *v)
+{
+    const char *s = plain_text(n);
+    char *end;
+    if (!s || !*s || isspace((unsigned char)*s))
+        return -1;
+    errno = 0;
+    const long l = strtol(s, &end, 10);
+    if (*end || errno == ERANGE || l < -1000000 || l > 1000000)
+        return -1;
+    *v = (int)l;
+    return 0;
+}
+
+static int parse_bool(const yaml_node_t *n, int *v)
+{
+    static const char *const yes[] = {"true", "True", "TRUE", "yes", "Yes", "YES"};
+    static const char *const no[] = {"false", "False", "FALSE", "no", "No", "NO"};
+    const char *s = plain_text(n);
+    for (int i = 0; s && i < ARRAY_LEN(yes); ++i)
+        if (strcmp(s, yes[i]) == 0 || strcmp(s, no[i]) == 0) {
+            *v = strcmp(s, yes[i]) == 0;
+            return 0;
+        }
+    return -1;
+}
+
+static int is_name(const char *s, size_t size)
+{
+    const size_t n = strlen(s);
+    if (n == 0 || n >= size)
+        return 0;
+    for (size_t i = 0; i < n; ++i)
+        if (!isalnum((unsigned char)s[i]) && s[i] != '_' && s[i] != '-')
+            return 0;
+    return 1;
+}
+
+static int in_range(const struct field *f, double v)
+{
+    switch (f->range) {
+    case R_ANY:
+        return 1;
+    case R_POSITIVE:
+        return v > 0;
+    case R_NONNEG:
+        return v >= 0;
+    case R_CLOSED:
+        return v >= f->lo && v <= f->hi;
+    case R_OPEN:
+        return v > f->lo && v < f->hi;
+    case R_LEFT_OPEN:
+        return v > f->lo && v <= f->hi;
+    }
+    return 0;
+}
+
+/* ---- "expected ..., got ..." ------------------------------------------- */
+
+static void join(char *buf, size_t size, const char *const *names, int count, const char *last)
+{
+    size_t n = strlen(buf);
+    for (int i = 0; i < count && n < size; ++i) {
+        const char *sep = i == 0 ? "" : i == count - 1 && last ? last : ", ";
+        n += (size_t)snprintf(buf + n, size - n, "%s%s", sep, names[i]);
+    }
+}
+
+static int count_names(const char *const *names)
+{
+    int n = 0;
+    while (names[n])
+        ++n;
+    return n;
+}
+
+static void describe(const struct ctx *x, const struct field *f, char *buf, size_t size)
+{
+    static const char *const axes[] = {"x", "y", "z"};
+    const char *unit_open = f->unit ? " (" : "", *unit = f->unit ? f->unit : "";
+    const char *unit_close = f->unit ? ")" : "";
+    buf[0] = '\0';
+    if (f->what) {
+        snprintf(buf, size, "%s", f->what);
+        return;
+    }
+    switch (f->kind) {
+    case K_NUMBER:
+        switch (f->range) {
+        case R_ANY:
+            snprintf(buf, size, "a number%s%s%s", unit_open, unit, unit_close);
+            break;
+        case R_POSITIVE:
+            snprintf(buf, size, "a positive number%s%s%s", unit_open, unit, unit_close);
+            break;
+        case R_NONNEG:
+            snprintf(buf, size, "a non-negative number%s%s%s", unit_open, unit, unit_close);
+            break;
+        case R_CLOSED:
+            snprintf(buf, size, "a number from %g to %g", f->lo, f->hi);
+            break;
+        case R_OPEN:
+            snprintf(buf, size, "a number greater than %g and less than %g", f->lo, f->hi);
+            break;
+        case R_LEFT_OPEN:
+            snprintf(buf, size, "a number greater than %g and at most %g", f->lo, f->hi);
+            break;
+        }
+        break;
+    case K_INT:
+        snprintf(buf, size, "an integer from %g to %g", f->lo, f->hi);
+        break;
+    case K_BOOL:
+        snprintf(buf, size, "true or false");
+        break;
+    case K_ENUM: {
+        const int n = count_names(f->names);
+        snprintf(buf, size, "%s", n > 2 ? "one of " : "");
+        join(buf, size, f->names, n, n == 2 ? " or " : NULL);
+        break;
+    }
+    case K_STRING:
+        snprintf(buf, size, "a string of at most %zu characters", f->aux - 1);
+        break;
+    case K_NAME:
+        snprintf(buf, size, "a name of 1 to %zu letters, digits, '_' or '-'", f->aux - 1);
+        break;
+    case K_REF:
+        snprintf(buf, size, "the name of a %s", ref_nouns[f->aux]);
+        break;
+    case K_VECTOR: {
+        const int n = f->aux ? (int)f->aux : x->c->dimension;
+        snprintf(buf, size, "a sequence of %d numbers [", n);
+        join(buf, size, axes, n, NULL);
+        const size_t len = strlen(buf);
+        snprintf(buf + len, size - len, "]%s%s%s", unit_open, unit, unit_close);
+        break;
+    }
+    case K_MAP:
+        snprintf(buf, size, "a map");
+        break;
+    case K_LIST:
+        snprintf(buf, size, "a sequence of %g to %g maps", f->lo, f->hi);
+        break;
+    }
+}
+
+static const char *got(const yaml_node_t *n, char *buf, size_t size)
+{
+    switch (n->type) {
+    case YAML_SCALAR_NODE:
+        if (n->data.scalar.style == YAML_PLAIN_SCALAR_STYLE)
+            snprintf(buf, size, "'%.80s'", (const char *)n->data.scalar.value);
+        else
+            snprintf(buf, size, "the quoted string '%.80s'", (const char *)n->data.scalar.value);
+        break;
+    case YAML_SEQUENCE_NODE: {
+        const long items = (long)(n->data.sequence.items.top - n->data.sequence.items.start);
+        snprintf(buf, size, "a sequence of %ld item%s", items, items == 1 ? "" : "s");
+        break;
+    }
+    case YAML_MAPPING_NODE:
+        snprintf(buf, size, "a map");
+        break;
+    default:
+        snprintf(buf, size, "nothing");
+        break;
+    }
+    return buf;
+}
+
+static int expected(struct ctx *x, const struct field *f, int at, int value)
+{
+    char what[512], seen[160];
+    describe(x, f, what, sizeof what);
+    return fail(x, at, x->key, "expected %s, got %s", what, got(node(x, value), seen, sizeof seen));
+}
+
+/* ---- reading values ---------------------------------------------------- */
+
+static int ref_count(const struct sph_case *c, size_t kind)
+{
+    return kind == REF_MATERIAL ? c->material_count
+           : kind == REF_BODY   ? c->body_count
+                                : c->group_count;
+}
+
+static const char *ref_name(const struct sph_case *c, size_t kind, int i)
+{
+    return kind == REF_MATERIAL ? c->materials[i].name
+           : kind == REF_BODY   ? c->bodies[i].name
+                                : c->groups[i].name;
+}
+
+static int read_map(struct ctx *x, const struct schema *s, char *base, int map, int blame);
+
+static int read_string(struct ctx *x, const struct field *f, char *p, int at, int value)
+{
+    const char *s = scalar_text(node(x, value));
+    if (!s || (f->kind == K_NAME ? !is_name(s, f->aux) : strlen(s) >= f->aux))
+        return expected(x, f, at, value);
+    memcpy(p, s, strlen(s) + 1);
+    return 0;
+}
+
+static int read_ref(struct ctx *x, const struct field *f, int *p, int at, int value)
+{
+    const char *s = scalar_text(node(x, value));
+    if (!s)
+        return expected(x, f, at, value);
+    const int n = ref_count(x->c, f->aux);
+    for (int i = 0; i < n; ++i)
+        if (strcmp(s, ref_name(x->c, f->aux, i)) == 0) {
+            *p = i;
+            return 0;
+        }
+    if (n == 0)
+        return fail(x, at, x->key, "unknown %s '%.80s'; no %s is defined", ref_nouns[f->aux], s,
+                    ref_nouns[f->aux]);
+    char known[512] = "";
+    for (int i = 0; i < n; ++i) {
+        const size_t len = strlen(known);
+        snprintf(known + len, sizeof known - len, "%s%s", i ? ", " : "", ref_name(x->c, f->aux, i));
+    }
+    return fail(x, at, x->key, "unknown %s '%.80s'; expected one of: %s", ref_nouns[f->aux], s,
+                known);
+}
+
+/* Bytes of the member: fixed-length vectors are that long, the others [3]. */
+static size_t vector_size(const struct field *f)
+{
+    return (f->aux ? f->aux : 3) * sizeof(double);
+}
+
+static int read_vector(struct ctx *x, const struct field *f, double *p, int at, int value)
+{
+    const yaml_node_t *n = node(x, value);
+    const int len = f->aux ? (int)f->aux : x->c->dimension;
+    if (n->type != YAML_SEQUENCE_NODE ||
+        n->data.sequence.items.top - n->data.sequence.items.start != len)
+        return expected(x, f, at, value);
+    double v[3] = {0, 0, 0};
+    for (int i = 0; i < len; ++i) {
+        const int item = n->data.sequence.items.start[i];
+        if (parse_number(node(x, item), &v[i]))
+            return expected(x, f, at, item);
+    }
+    memcpy(p, v, vector_size(f));
+    return 0;
+}
+
+/* The node whose line names `key` of the map `map`. */
+static int key_line(struct ctx *x, int map, const char *key)
+{
+    const yaml_node_t *m = node(x, map);
+    for (const yaml_node_pair_t *p = m->data.mapping.pairs.start; p < m->data.mapping.pairs.top;
+         ++p) {
+        const char *k = scalar_text(node(x, p->key));
+        if (k && strcmp(k, key) == 0)
+            return from_set(x, p->value) ? p->value : p->key;
+    }
+    return map;
+}
+
+/* Item i of a list against the items before it. */
+static int check_unique(struct ctx *x, const struct schema *s, const struct field *u,
+                        const char *items, int i, int item)
+{
+    const char *mine = items + (size_t)i * s->size + u->offset;
+    for (int j = 0; j < i; ++j)
+        if (strcmp(mine, items + (size_t)j * s->size + u->offset) == 0)
+            return fail(x, key_line(x, item, u->key), subkey(x, u->key),
+                        "duplicate %s '%s' (also item %d)", u->key, mine, j);
+    return 0;
+}
+
+static int read_list(struct ctx *x, const struct field *f, char *base, int at, int value)
+{
+    const yaml_node_t *n = node(x, value);
+    const long count = n->type == YAML_SEQUENCE_NODE
+                           ? (long)(n->data.sequence.items.top - n->data.sequence.items.start)
+                           : -1;
+    if (count < f->lo || count > f->hi)
+        return expected(x, f, at, value);
+    const struct schema *s = f->sub;
+    char *items = base + f->offset;
+    for (int i = 0; i < count; ++i) {
+        const int item = n->data.sequence.items.start[i];
+        char index[16];
+        snprintf(index, sizeof index, "%d", i);
+        const size_t mark = push(x, index);
+        int rc = read_map(x, s, items + (size_t)i * s->size, item, item);
+        for (int k = 0; !rc && k < s->count; ++k)
+            if (s->fields[k].flags & F_UNIQUE)
+                rc = check_unique(x, s, &s->fields[k], items, i, item);
+        pop(x, mark);
+        if (rc)
+            return rc;
+    }
+    *(int *)(base + f->aux) = (int)count;
+    return 0;
+}
+
+static int has_required(const struct schema *s)
+{
+    for (int i = 0; i < s->count; ++i)
+        if (s->fields[i].flags & F_REQUIRED)
+            return 1;
+    return 0;
+}
+
+static int set_default(struct ctx *x, const struct field *f, char *base)
+{
+    void *p = base + f->offset;
+    switch (f->kind) {
+    case K_NUMBER:
+        *(double *)p = f->def;
+        break;
+    case K_INT:
+    case K_BOOL:
+    case K_ENUM:
+    case K_REF:
+        *(int *)p = (int)f->def;
+        break;
+    case K_STRING:
+    case K_NAME:
+        *(char *)p = '\0';
+        break;
+    case K_VECTOR:
+        memset(p, 0, vector_size(f));
+        break;
+    case K_MAP:
+        /* An absent map with required keys stays off; others take their defaults. */
+        return has_required(f->sub) ? 0 : read_map(x, f->sub, base + f->offset, 0, 0);
+    case K_LIST:
+        *(int *)(base + f->aux) = 0;
+        break;
+    }
+    return 0;
+}
+
+static int read_value(struct ctx *x, const struct field *f, char *base, int at, int value)
+{
+    void *p = base + f->offset;
+    const yaml_node_t *n = node(x, value);
+    if ((f->flags & F_2D_ONLY) && x->c->dimension != 2)
+        return fail(x, at, x->key, "only allowed when dimension is 2");
+    switch (f->kind) {
+    case K_NUMBER: {
+        double v;
+        if (parse_number(n, &v) || !in_range(f, v))
+            return expected(x, f, at, value);
+        *(double *)p = v;
+        return 0;
+    }
+    case K_INT: {
+        int v;
+        if (parse_int(n, &v) || v < f->lo || v > f->hi)
+            return expected(x, f, at, value);
+        *(int *)p = v;
+        return 0;
+    }
+    case K_BOOL:
+        return parse_bool(n, p) ? expected(x, f, at, value) : 0;
+    case K_ENUM: {
+        const char *s = scalar_text(n);
+        for (int i = 0; s && f->names[i]; ++i)
+            if (strcmp(s, f->names[i]) == 0) {
+                *(int *)p = i;
+                return 0;
+            }
+        return expected(x, f, at, value);
+    }
+    case K_STRING:
+    case K_NAME:
+        return read_string(x, f, p, at, value);
+    case K_REF:
+        return read_ref(x, f, p, at, value);
+    case K_VECTOR:
+        return read_vector(x, f, p, at, value);
+    case K_MAP:
+        if (f->flags & F_ENABLE)
+            *(int *)(base + f->aux) = 1;
+        return read_map(x, f->sub, base + f->offset, value, at);
+    case K_LIST:
+        return read_list(x, f, base, at, value);
+    }
+    return -1;
+}
+
+static int slot(const struct schema *s, const char *key)
+{
+    for (int i = 0; i < s->count; ++i)
+        if (strcmp(s->fields[i].key, key) == 0)
+            return i;
+    return -1;
+}
+
+static int given(const struct frame *fr, const char *key)
+{
+    return fr->value[slot(fr->schema, key)];
+}
+
+static int line_of(const struct frame *fr, const char *key)
+{
+    const int i = slot(fr->schema, key);
+    return fr->value[i] ? fr->at[i] : fr->blame;
+}
+
+static int unknown_key(struct ctx *x, const struct schema *s, int key_node, const char *key)
+{
+    char keys[512] = "";
+    for (int i = 0; i < s->count; ++i) {
+        const size_t len = strlen(keys);
+        snprintf(keys + len, sizeof keys - len, "%s%s", i ? ", " : "", s->fields[i].key);
+    }
+    return fail(x, key_node, from_set(x, key_node) ? subkey(x, key) : NULL,
+                "unknown key '%.80s' %s%s; expected one of: %s", key,
+                *x->key ? "in " : "at top level", x->key, keys);
+}
+
+/* Fills fr->value/at from the pairs of `map`, rejecting unknown and repeated keys. */
+static int index_pairs(struct ctx *x, struct frame *fr, int map)
+{
+    const yaml_node_t *n = node(x, map);
+    char seen[160];
+    if (n->type != YAML_MAPPING_NODE)
+        return fail(x, fr->blame, x->key, "expected a map, got %s", got(n, seen, sizeof seen));
+    for (const yaml_node_pair_t *p = n->data.mapping.pairs.start; p < n->data.mapping.pairs.top;
+         ++p) {
+        const char *key = scalar_text(node(x, p->key));
+        if (!key)
+            return fail(x, p->key, x->key, "expected a key name, got %s",
+                        got(node(x, p->key), seen, sizeof seen));
+        const int i = slot(fr->schema, key);
+        if (i < 0)
+            return unknown_key(x, fr->schema, p->key, key);
+        if (fr->value[i])
+            return fail(x, p->key, subkey(x, key), "duplicate key '%s'", key);
+        fr->value[i] = p->value;
+        fr->at[i] = from_set(x, p->value) ? p->value : p->key;
+    }
+    return 0;
+}
+
+/* Reads `map` (0: absent, defaults only) into `base` by the table `s`. */
+static int read_map(struct ctx *x, const struct schema *s, char *base, int map, int blame)
+{
+    struct frame fr = {.schema = s, .blame = blame};
+    if (map && index_pairs(x, &fr, map))
+        return -1;
+    for (int i = 0; i < s->count; ++i) {
+        const struct field *f = &s->fields[i];
+        if (!fr.value[i] && (f->flags & F_REQUIRED))
+            return fail(x, blame, x->key, "missing required key '%s'", f->key);
+        const size_t mark = push(x, f->key);
+        const int rc =
+            fr.value[i] ? read_value(x, f, base, fr.at[i], fr.value[i]) : set_default(x, f, base);
+        pop(x, mark);
+        if (rc)
+            return rc;
+    }
+    return s->check ? s->check(x, &fr, base) : 0;
+}
+
+/* ---- rules the tables cannot express ----------------------------------- */
+
+static int check_material(struct ctx *x, const struct frame *fr, void *base)
+{
+    const struct case_material *m = base;
+    const int plastic = m->strength == SPH_STRENGTH_PERFECTLY_PLASTIC;
+    if (plastic && !given(fr, "yield_stress"))
+        return fail(x, fr->blame, x->key,
+                    "missing required key 'yield_stress' (strength is perfectly_plastic)");
+    if (!plastic && given(fr, "yield_stress"))
+        return fail(x, line_of(fr, "yield_stress"), subkey(x, "yield_stress"),
+                    "only allowed when strength is perfectly_plastic");
+    return 0;
+}
+
+static int check_box(struct ctx *x, const struct frame *fr, const struct case_box *b)
+{
+    static const char *const axes[] = {"x", "y", "z"};
+    for (int a = 0; a < x->c->dimension; ++a)
+        if (!(b->max[a] > b->min[a]))
+            return fail(x, line_of(fr, "max"), subkey(x, "max"),
+                        "expected max greater than min on every axis, got %s: min %g, max %g",
+                        axes[a], b->min[a], b->max[a]);
+    return 0;
+}
+
+static int check_body(struct ctx *x, const struct frame *fr, void *base)
+{
+    return check_box(x, fr, &((struct case_body *)base)->box);
+}
+
+static int check_group(struct ctx *x, const struct frame *fr, void *base)
+{
+    return check_box(x, fr, &((struct case_group *)base)->region);
+}
+
+static int check_load(struct ctx *x, const struct frame *fr, void *base)
+{
+    const struct case_load *l = base;
+    const int ramp = l->law != SPH_LOAD_CONSTANT;
+    if (ramp && !given(fr, "ramp_time"))
+        return fail(x, fr->blame, x->key, "missing required key 'ramp_time' (law is %s)",
+                    law_names[l->law]);
+    if (!ramp && given(fr, "ramp_time"))
+        return fail(x, line_of(fr, "ramp_time"), subkey(x, "ramp_time"),
+                    "only allowed with law linear_ramp or quadratic_ramp");
+    return 0;
+}
+
+static int check_output(struct ctx *x, const struct frame *fr, void *base)
+{
+    struct case_output *o = base;
+    if (!given(fr, "snapshot_interval"))
+        o->snapshot_interval = x->c->numerics.end_time / 20;
+    if (!given(fr, "history_interval"))
+        o->history_interval = x->c->numerics.end_time / 1000;
+    return 0;
+}
+
+static int check_probe(struct ctx *x, const struct frame *fr, void *base)
+{
+    const struct case_probe *p = base;
+    if (p->quantity == SPH_PROBE_DISPLACEMENT_Z && x->c->dimension != 3)
+        return fail(x, line_of(fr, "quantity"), subkey(x, "quantity"),
+                    "expected displacement_x or displacement_y in 2-D, got 'displacement_z'");
+    return 0;
+}
+
+static int check_reference(struct ctx *x, const struct frame *fr, void *base)
+{
+    struct case_reference *r = base;
+    if (!given(fr, "window")) {
+        r->window[0] = 0;
+        r->window[1] = x->c->numerics.end_time;
+    } else if (!(r->window[0] < r->window[1])) {
+        return fail(x, line_of(fr, "window"), subkey(x, "window"),
+                    "expected [t0, t1] with t0 < t1 (s), got [%g, %g]", r->window[0], r->window[1]);
+    }
+    return 0;
+}
+
+/* The file's basename without its extension, made a valid name. */
+static void default_name(const char *path, char *name, size_t size)
+{
+    const char *slash = strrchr(path, '/');
+    const char *start = slash ? slash + 1 : path;
+    const char *dot = strrchr(start, '.');
+    size_t n = dot && dot != start ? (size_t)(dot - start) : strlen(start);
+    if (n >= size)
+        n = size - 1;
+    for (size_t i = 0; i < n; ++i)
+        name[i] = isalnum((unsigned char)start[i]) || start[i] == '-' ? start[i] : '_';
+    name[n] = '\0';
+    if (n == 0)
+        snprintf(name, size, "case");
+}
+
+static int check_case(struct ctx *x, const struct frame *fr, void *base)
+{
+    struct sph_case *c = base;
+    if (!given(fr, "name"))
+        default_name(x->path, c->name, sizeof c->name);
+    if (c->reference.enabled && !c->has_probe)
+        return fail(x, line_of(fr, "reference"), "reference",
+                    "needs a probe (add a probe map naming the group to compare)");
+    return 0;
+}
+
+/* ---- the tables -------------------------------------------------------- */
+
+#define NUMBER(k, T, m, fl, r, lo_, hi_, d, u)                                                     \
+    {                                                                                              \
+        .key = k, .kind = K_NUMBER, .flags = fl, .range = r, .lo = lo_, .hi = hi_, .def = d,       \
+        .offset = offsetof(T, m), .unit = u                                                        \
+    }
+#define INT(k, T, m, fl, lo_, hi_, d, w)                                                           \
+    {                                                                                              \
+        .key = k, .kind = K_INT, .flags = fl, .lo = lo_, .hi = hi_, .def = d,                      \
+        .offset = offsetof(T, m), .what = w                                                        \
+    }
+#define BOOL(k, T, m)                                                                              \
+    {                                                                                              \
+        .key = k, .kind = K_BOOL, .offset = offsetof(T, m)                                         \
+    }
+#define ENUM(k, T, m, fl, d, n, w)                                                                 \
+    {                                                                                              \
+        .key = k, .kind = K_ENUM, .flags = fl, .def = d, .offset = offsetof(T, m), .names = n,     \
+        .what = w                                                                                  \
+    }
+#define STRING(k, T, m, fl, kind_)                                                                 \
+    {                                                                                              \
+        .key = k, .kind = kind_, .flags = fl, .offset = offsetof(T, m), .aux = sizeof(((T *)0)->m) \
+    }
+#define REF(k, T, m, fl, ref, d)                                                                   \
+    {                                                                                              \
+        .key = k, .kind = K_REF, .flags = fl, .def = d, .offset = offsetof(T, m), .aux = ref       \
+    }
+#define VECTOR(k, T, m, fl, n, u, w)                                                               \
+    {                                                                                              \
+        .key = k, .kind = K_VECTOR, .flags = fl, .offset = offsetof(T, m), .aux = n, .unit = u,    \
+        .what = w                                                                                  \
+    }
+#define MAP(k, fl, off, enable, s)                                                                 \
+    {                                                                                              \
+        .key = k, .kind = K_MAP, .flags = fl, .offset = off, .aux = enable, .sub = &s              \
+    }
+#define LIST(k, T, m, count, fl, lo_, hi_, s)                                                      \
+    {                                                                                              \
+        .key = k, .kind = K_LIST, .flags = fl, .lo = lo_, .hi = hi_, .offset = offsetof(T, m),     \
+        .aux = offsetof(T, count), .sub = &s                                                       \
+    }
+#define SCHEMA(fields, T, check)                                                                   \
+    {                                                                                              \
+        fields, ARRAY_LEN(fields), sizeof(T), check                                                \
+    }
+
+static const struct field material_fields[] = {
+    STRING("name", struct case_material, name, F_REQUIRED | F_UNIQUE, K_NAME),
+    NUMBER("density", struct case_material, density, F_REQUIRED, R_POSITIVE, 0, 0, 0, "kg/m^3"),
+    NUMBER("youngs_modulus", struct case_material, youngs_modulus, F_REQUIRED, R_POSITIVE, 0, 0, 0,
+           "Pa"),
+    NUMBER("poisson_ratio", struct case_material, poisson_ratio, F_REQUIRED, R_OPEN, -1, 0.5, 0,
+           NULL),
+    ENUM("eos", struct case_material, eos, 0, SPH_EOS_LINEAR, eos_names,
+         "linear (mie_gruneisen and polynomial are not supported yet)"),
+    ENUM("strength", struct case_material, strength, 0, SPH_STRENGTH_ELASTIC, strength_names, NULL),
+    NUMBER("yield_stress", struct case_material, yield_stress, F_OMIT_ZERO, R_POSITIVE, 0, 0, 0,
+           "Pa"),
+};
+
+static const struct field body_fields[] = {
+    STRING("name", struct case_body, name, F_REQUIRED | F_UNIQUE, K_NAME),
+    REF("material", struct case_body, material, F_REQUIRED, REF_MATERIAL, 0),
+    ENUM("shape", struct case_body, shape, 0, SPH_SHAPE_BOX, shape_names, NULL),
+    VECTOR("min", struct case_body, box.min, F_REQUIRED, 0, "m", NULL),
+    VECTOR("max", struct case_body, box.max, F_REQUIRED, 0, "m", NULL),
+    BOOL("fixed", struct case_body, fixed),
+    VECTOR("velocity", struct case_body, velocity, 0, 0, "m/s", NULL),
+};
+
+static const struct field load_fields[] = {
+    VECTOR("force", struct case_load, force, F_REQUIRED, 0, "N", NULL),
+    ENUM("law", struct case_load, law, 0, SPH_LOAD_CONSTANT, law_names, NULL),
+    NUMBER("ramp_time", struct case_load, ramp_time, F_OMIT_ZERO, R_POSITIVE, 0, 0, 0, "s"),
+};
+static const struct schema load_schema = SCHEMA(load_fields, struct case_load, check_load);
+
+static const struct field group_fields[] = {
+    STRING("name", struct case_group, name, F_REQUIRED | F_UNIQUE, K_NAME),
+    REF("body", struct case_group, body, 0, REF_BODY, -1),
+    VECTOR("min", struct case_group, region.min, F_REQUIRED, 0, "m", NULL),
+    VECTOR("max", struct case_group, region.max, F_REQUIRED, 0, "m", NULL),
+    BOOL("fixed", struct case_group, fixed),
+    MAP("load", F_ENABLE, offsetof(struct case_group, load),
+        offsetof(struct case_group, load.enabled), load_schema),
+};
+
+static const struct field viscosity_fields[] = {
+    NUMBER("alpha", struct case_numerics, av_alpha, 0, R_NONNEG, 0, 0, 0.1, NULL),
+    NUMBER("beta", struct case_numerics, av_beta, 0, R_NONNEG, 0, 0, 0.1, NULL),
+};
+static const struct schema viscosity_schema = SCHEMA(viscosity_fields, struct case_numerics, NULL);
+
+static const struct field stress_fields[] = {
+    NUMBER("epsilon", struct case_numerics, as_epsilon, 0, R_NONNEG, 0, 0, 0, NULL),
+    INT("exponent", struct case_numerics, as_exponent, 0, 1, 8, 4, NULL),
+};
+static const struct schema stress_schema = SCHEMA(stress_fields, struct case_numerics, NULL);
+
+static const struct field numerics_fields[] = {
+    NUMBER("dx", struct case_numerics, dx, F_REQUIRED, R_POSITIVE, 0, 0, 0, "m"),
+    ENUM("kernel", struct case_numerics, kernel, 0, SPH_KERNEL_WENDLAND_C2, kernel_names, NULL),
+    NUMBER("h_over_dx", struct case_numerics, h_over_dx, 0, R_CLOSED, 1.0, 3.0, 1.2, NULL),
+    MAP("artificial_viscosity", 0, 0, 0, viscosity_schema),
+    MAP("artificial_stress", 0, 0, 0, stress_schema),
+    NUMBER("xsph", struct case_numerics, xsph_epsilon, 0, R_CLOSED, 0, 1, 0, NULL),
+    BOOL("csph", struct case_numerics, csph),
+    NUMBER("cfl", struct case_numerics, cfl, 0, R_LEFT_OPEN, 0, 1, 0.3, NULL),
+    NUMBER("end_time", struct case_numerics, end_time, F_REQUIRED, R_POSITIVE, 0, 0, 0, "s"),
+    NUMBER("damping", struct case_numerics, damping, 0, R_NONNEG, 0, 0, 0, "1/s"),
+    ENUM("precision", struct case_numerics, double_precision, 0, 0, precision_names, NULL),
+};
+
+static const struct field output_fields[] = {
+    NUMBER("snapshot_interval", struct case_output, snapshot_interval, 0, R_POSITIVE, 0, 0, 0, "s"),
+    NUMBER("history_interval", struct case_output, history_interval, 0, R_POSITIVE, 0, 0, 0, "s"),
+};
+
+static const struct field probe_fields[] = {
+    STRING("name", struct case_probe, name, F_REQUIRED, K_NAME),
+    REF("group", struct case_probe, group, F_REQUIRED, REF_GROUP, 0),
+    ENUM("quantity", struct case_probe, quantity, F_REQUIRED, 0, quantity_names, NULL),
+};
+
+static const struct field reference_fields[] = {
+    NUMBER("value", struct case_reference, value, F_REQUIRED, R_ANY, 0, 0, 0, NULL),
+    VECTOR("window", struct case_reference, window, 0, 2, NULL, "a sequence [t0, t1] (s)"),
+    STRING("source", struct case_reference, source, 0, K_STRING),
+};
+
+static const struct schema material_schema =
+    SCHEMA(material_fields, struct case_material, check_material);
+static const struct schema body_schema = SCHEMA(body_fields, struct case_body, check_body);
+static const struct schema group_schema = SCHEMA(group_fields, struct case_group, check_group);
+static const struct schema numerics_schema = SCHEMA(numerics_fields, struct case_numerics, NULL);
+static const struct schema output_schema = SCHEMA(output_fields, struct case_output, check_output);
+static const struct schema probe_schema = SCHEMA(probe_fields, struct case_probe, check_probe);
+static const struct schema reference_schema =
+    SCHEMA(reference_fields, struct case_reference, check_reference);
+
+/* Order matters: a field is read after those it depends on (dimension before
+ * vectors, materials before bodies, numerics before output...). */
+static const struct field case_fields[] = {
+    STRING("name", struct sph_case, name, 0, K_NAME),
+    INT("dimension", struct sph_case, dimension, F_REQUIRED, 2, 3, 0, "2 or 3"),
+    ENUM("plane", struct sph_case, plane, F_2D_ONLY, SPH_PLANE_STRESS, plane_names, NULL),
+    NUMBER("thickness", struct sph_case, thickness, F_2D_ONLY, R_POSITIVE, 0, 0, 1.0, "m"),
+    LIST("materials", struct sph_case, materials, material_count, F_REQUIRED, 1, SPH_MAX_MATERIALS,
+         material_schema),
+    LIST("bodies", struct sph_case, bodies, body_count, F_REQUIRED, 1, SPH_MAX_BODIES, body_schema),
+    LIST("groups", struct sph_case, groups, group_count, 0, 0, SPH_MAX_BODIES, group_schema),
+    MAP("numerics", F_REQUIRED, offsetof(struct sph_case, numerics), 0, numerics_schema),
+    MAP("output", 0, offsetof(struct sph_case, output), 0, output_schema),
+    MAP("probe", F_ENABLE, offsetof(struct sph_case, probe), offsetof(struct sph_case, has_probe),
+        probe_schema),
+    MAP("reference", F_ENABLE, offsetof(struct sph_case, reference),
+        offsetof(struct sph_case, reference.enabled), reference_schema),
+};
+static const struct schema case_schema = SCHEMA(case_fields, struct sph_case, check_case);
+
+_Static_assert(ARRAY_LEN(case_fields) <= MAX_FIELDS, "frame too small");
+_Static_assert(ARRAY_LEN(numerics_fields) <= MAX_FIELDS, "frame too small");
+_Static_assert(ARRAY_LEN(material_fields) <= MAX_FIELDS, "frame too small");
+_Static_assert(ARRAY_LEN(body_fields) <= MAX_FIELDS, "frame too small");
+_Static_assert(ARRAY_LEN(group_fields) <= MAX_FIELDS, "frame too small");
+
+/* ---- --set ------------------------------------------------------------- */
+
+static void mark_set(yaml_document_t *doc, int id)
+{
+    yaml_node_t *n = yaml_document_get_node(doc, id);
+    n->start_mark.line = n->end_mark.line = SET_LINE;
+}
+
+/* Copies node `id` of `from` (and all below it) into `to`; 0 when out of
+ * memory or nested deeper than any case value (the recursion must stay bounded). */
+static int graft(yaml_document_t *to, yaml_document_t *from, int id, int depth)
+{
+    const yaml_node_t *n = yaml_document_get_node(from, id);
+    int copy = 0;
+    if (depth > 16)
+        return 0;
+    switch (n->type) {
+    case YAML_SCALAR_NODE:
+        copy = yaml_document_add_scalar(to, NULL, n->data.scalar.value, (int)n->data.scalar.length,
+                                        n->data.scalar.style);
+        break;
+    case YAML_SEQUENCE_NODE:
+        copy = yaml_document_add_sequence(to, NULL, n->data.sequence.style);
+        for (const yaml_node_item_t *i = n->data.sequence.items.start;
+             copy && i < n->data.sequence.items.top; ++i) {
+            const int item = graft(to, from, *i, depth + 1);
+            if (!item || !yaml_document_append_sequence_item(to, copy, item))
+                copy = 0;
+        }
+        break;
+    case YAML_MAPPING_NODE:
+        copy = yaml_document_add_mapping(to, NULL, n->data.mapping.style);
+        for (const yaml_node_pair_t *p = n->data.mapping.pairs.start;
+             copy && p < n->data.mapping.pairs.top; ++p) {
+            const int key = graft(to, from, p->key, depth + 1),
+                      value = key ? graft(to, from, p->value, depth + 1) : 0;
+            if (!value || !yaml_document_append_mapping_pair(to, copy, key, value))
+                copy = 0;
+        }
+        break;
+    default:
+        break;
+    }
+    if (copy)
+        mark_set(to, copy);
+    return copy;
+}
+
+/* Parses the text after '=' as YAML and grafts it into the case document. */
+static int set_value(struct ctx *x, const char *arg, const char *text, int *id)
+{
+    yaml_parser_t parser;
+    yaml_document_t value;
+    if (!yaml_parser_initialize(&parser))
+        return fail_set(x, arg, "out of memory");
+    yaml_parser_set_input_string(&parser, (const unsigned char *)text, strlen(text));
+    if (!yaml_parser_load(&parser, &value)) {
+        fail_set(x, arg, "malformed value: %s", parser.problem ? parser.problem : "out of memory");
+        yaml_parser_delete(&parser);
+        return -1;
+    }
+    const yaml_node_t *root = yaml_document_get_root_node(&value);
+    if (root)
+        *id = graft(x->doc, &value, (int)(root - value.nodes.start) + 1, 0);
+    else
+        *id = yaml_document_add_scalar(x->doc, NULL, (const yaml_char_t *)"", 0,
+                                       YAML_PLAIN_SCALAR_STYLE);
+    if (*id)
+        mark_set(x->doc, *id);
+    yaml_document_delete(&value);
+    yaml_parser_delete(&parser);
+    return *id ? 0 : fail_set(x, arg, "value nested too deeply (or out of memory)");
+}
+
+static yaml_node_pair_t *find_pair(struct ctx *x, int map, const char *key)
+{
+    yaml_node_t *n = node(x, map);
+    for (yaml_node_pair_t *p = n->data.mapping.pairs.start; p < n->data.mapping.pairs.top; ++p) {
+        const char *k = scalar_text(node(x, p->key));
+        if (k && strcmp(k, key) == 0)
+            return p;
+    }
+    return NULL;
+}
+
+/* The item of a sequence named by index or by its `name`; NULL if none. */
+static yaml_node_item_t *find_item(struct ctx *x, int seq, const char *segment)
+{
+    yaml_node_t *n = node(x, seq);
+    const long count = (long)(n->data.sequence.items.top - n->data.sequence.items.start);
+    char *end;
+    const long index = strtol(segment, &end, 10);
+    if (isdigit((unsigned char)*segment) && !*end)
+        return index < count ? n->data.sequence.items.start + index : NULL;
+    for (yaml_node_item_t *i = n->data.sequence.items.start; i < n->data.sequence.items.top; ++i) {
+        const yaml_node_pair_t *p =
+            node(x, *i)->type == YAML_MAPPING_NODE ? find_pair(x, *i, "name") : NULL;
+        const char *name = p ? scalar_text(node(x, p->value)) : NULL;
+        if (name && strcmp(name, segment) == 0)
+            return i;
+    }
+    return NULL;
+}
+
+static int add_pair(struct ctx *x, int map, const char *key, int value)
+{
+    const int k = yaml_document_add_scalar(x->doc, NULL, (const yaml_char_t *)key, -1,
+                                           YAML_PLAIN_SCALAR_STYLE);
+    if (!k || !yaml_document_append_mapping_pair(x->doc, map, k, value))
+        return -1;
+    mark_set(x->doc, k);
+    return 0;
+}
+
+/* Applies one "key.path=value": walks maps by key and sequences by index or
+ * item name, creating missing maps, and puts the value at the end. */
+static int apply_set(struct ctx *x, const char *arg)
+{
+    const char *eq = arg ? strchr(arg, '=') : NULL;
+    char keys[KEY_MAX], walked[KEY_MAX] = "";
+    if (!eq || eq == arg)
+        return fail_set(x, arg, "expected key.path=value");
+    if ((size_t)(eq - arg) >= sizeof keys)
+        return fail_set(x, arg, "key path too long");
+    memcpy(keys, arg, (size_t)(eq - arg));
+    keys[eq - arg] = '\0';
+    int value, current = (int)(yaml_document_get_root_node(x->doc) - x->doc->nodes.start) + 1;
+    if (set_value(x, arg, eq + 1, &value))
+        return -1;
+    for (char *segment = keys, *dot;; segment = dot + 1) {
+        dot = strchr(segment, '.');
+        if (dot)
+            *dot = '\0';
+        if (!*segment)
+            return fail_set(x, arg, "empty key in the key path");
+        const yaml_node_type_t type = node(x, current)->type;
+        if (type == YAML_MAPPING_NODE) {
+            yaml_node_pair_t *p = find_pair(x, current, segment);
+            if (!dot) {
+                if (p)
+                    p->value = value;
+                else if (add_pair(x, current, segment, value))
+                    return fail_set(x, arg, "out of memory");
+                return 0;
+            }
+            if (!p) {
+                const int map = yaml_document_add_mapping(x->doc, NULL, YAML_BLOCK_MAPPING_STYLE);
+                if (!map || add_pair(x, current, segment, map))
+                    return fail_set(x, arg, "out of memory");
+                mark_set(x->doc, map);
+                current = map;
+            } else {
+                current = p->value;
+            }
+        } else if (type == YAML_SEQUENCE_NODE) {
+            yaml_node_item_t *item = find_item(x, current, segment);
+            if (!item)
+                return fail_set(x, arg, "%s has no item '%s' (expected an index or a name)", walked,
+                                segment);
+            if (!dot) {
+                *item = value;
+                return 0;
+            }
+            current = *item;
+        } else {
+            return fail_set(x, arg, "%s is a value, not a map or a sequence", walked);
+        }
+        append(walked, sizeof walked, *walked ? "." : "", segment, (char *)NULL);
+    }
+}
+
+/* ---- loading ----------------------------------------------------------- */
+
+static int parser_error(struct ctx *x, const yaml_parser_t *p, FILE *f)
+{
+    x->error_len = 0;
+    if (p->error == YAML_READER_ERROR && f && ferror(f))
+        put(x, "%s: cannot read: %s", x->path, strerror(errno));
+    else if (p->error == YAML_MEMORY_ERROR || !p->problem)
+        put(x, "%s: out of memory while reading YAML", x->path);
+    else if (p->context)
+        put(x, "%s:%zu: malformed YAML: %s (%s at line %zu)", x->path, p->problem_mark.line + 1,
+            p->problem, p->context, p->context_mark.line + 1);
+    else
+        put(x, "%s:%zu: malformed YAML: %s", x->path, p->problem_mark.line + 1, p->problem);
+    return -1;
+}
+
+/* Loads the file's single document into `doc`; on failure nothing is left to free. */
+static int load_document(struct ctx *x, yaml_document_t *doc)
+{
+    FILE *f = fopen(x->path, "rb");
+    if (!f) {
+        put(x, "%s: cannot open: %s", x->path, strerror(errno));
+        return -1;
+    }
+    yaml_parser_t parser;
+    if (!yaml_parser_initialize(&parser)) {
+        fclose(f);
+        put(x, "%s: out of memory", x->path);
+        return -1;
+    }
+    yaml_parser_set_input_file(&parser, f);
+    const int loaded = yaml_parser_load(&parser, doc);
+    int rc = loaded ? 0 : parser_error(x, &parser, f);
+    if (!rc && !yaml_document_get_root_node(doc)) {
+        put(x,
+            "%s: empty case file; expected a map with dimension, materials, bodies and "
+            "numerics",
+            x->path);
+        rc = -1;
+    } else if (!rc) {
+        yaml_document_t extra;
+        if (!yaml_parser_load(&parser, &extra)) {
+            rc = parser_error(x, &parser, f);
+        } else {
+            const yaml_node_t *root = yaml_document_get_root_node(&extra);
+            if (root) {
+                put(x, "%s:%zu: a second YAML document; expected one", x->path,
+                    root->start_mark.line + 1);
+                rc = -1;
+            }
+            yaml_document_delete(&extra);
+        }
+    }
+    if (rc && loaded) /* a failed load has freed the document itself */
+        yaml_document_delete(doc);
+    yaml_parser_delete(&parser);
+    fclose(f);
+    return rc;
+}
+
+int case_load(const char *path, int set_count, char *const *sets, struct sph_case *out, char *error,
+              size_t error_size)
+{
+    struct ctx x = {
+        .path = path ? path : "(null)", .c = out, .error = error, .error_size = error_size};
+    if (error && error_size)
+        error[0] = '\0';
+    memset(out, 0, sizeof *out);
+    yaml_document_t doc;
+    if (load_document(&x, &doc))
+        return -1;
+    x.doc = &doc;
+    const int root = (int)(yaml_document_get_root_node(&doc) - doc.nodes.start) + 1;
+    char seen[160];
+    int rc = 0;
+    if (node(&x, root)->type != YAML_MAPPING_NODE)
+        rc = fail(&x, root, NULL, "expected a map of case keys, got %s",
+                  got(node(&x, root), seen, sizeof seen));
+    for (int i = 0; !rc && i < set_count; ++i)
+        rc = apply_set(&x, sets[i]);
+    if (!rc)
+        rc = read_map(&x, &case_schema, (char *)out, root, root);
+    yaml_document_delete(&doc);
+    if (rc) {
+        memset(out, 0, sizeof *out);
+        return -1;
+    }
+    append(out->path, sizeof out->path, x.path, (char *)NULL);
+    return 0;
+}
+
+/* ---- writing ----------------------------------------------------------- */
+
+/* The shortest %g form that reads back to the same double. */
+static void write_number(FILE *f, double v)
+{
+    char buf[40];
+    if (v > -1e15 && v < 1e15 && v == (double)(long long)v) {
+        fprintf(f, "%.0f", v);
+        return;
+    }
+    for (int digits = 1; digits <= 17; ++digits) {
+        snprintf(buf, sizeof buf, "%.*g", digits, v);
+        if (strtod(buf, NULL) == v)
+            break;
+    }
+    fputs(buf, f);
+}
+
+static void write_string(FILE *f, const char *s)
+{
+    fputc('"', f);
+    for (; *s; ++s) {
+        const unsigned char ch = (unsigned char)*s;
+        if (ch == '"' || ch == '\\')
+            fprintf(f, "\\%c", ch);
+        else if (ch < 0x20 || ch == 0x7f)
+            fprintf(f, "\\x%02x", ch);
+        else
+            fputc(ch, f);
+    }
+    fputc('"', f);
+}
+
+static int written(const struct sph_case *c, const struct field *f, const char *base)
+{
+    const void *p = base + f->offset;
+    if ((f->flags & F_2D_ONLY) && c->dimension != 2)
+        return 0;
+    if ((f->flags & F_OMIT_ZERO) && *(const double *)p == 0)
+        return 0;
+    if (f->kind == K_REF && *(const int *)p < 0)
+        return 0;
+    if (f->kind == K_MAP && (f->flags & F_ENABLE) && !*(const int *)(base + f->aux))
+        return 0;
+    if (f->kind == K_LIST && !(f->flags & F_REQUIRED) && !*(const int *)(base + f->aux))
+        return 0;
+    return 1;
+}
+
+/* Starts a line at `indent`; the first line of a list item gets its "- ". */
+static void start_line(FILE *f, int indent, int *dash)
+{
+    fprintf(f, "%*s%s", *dash ? indent - 2 : indent, "", *dash ? "- " : "");
+    *dash = 0;
+}
+
+static void write_map(const struct sph_case *c, FILE *f, const struct schema *s, const char *base,
+                      int indent, int dash)
+{
+    for (int i = 0; i < s->count; ++i) {
+        const struct field *fl = &s->fields[i];
+        const void *p = base + fl->offset;
+        if (!written(c, fl, base))
+            continue;
+        start_line(f, indent, &dash);
+        fprintf(f, "%s:", fl->key);
+        switch (fl->kind) {
+        case K_NUMBER:
+            fputc(' ', f);
+            write_number(f, *(const double *)p);
+            break;
+        case K_INT:
+            fprintf(f, " %d", *(const int *)p);
+            break;
+        case K_BOOL:
+            fprintf(f, " %s", *(const int *)p ? "true" : "false");
+            break;
+        case K_ENUM:
+            fprintf(f, " %s", fl->names[*(const int *)p]);
+            break;
+        case K_STRING:
+        case K_NAME:
+            fputc(' ', f);
+            write_string(f, p);
+            break;
+        case K_REF:
+            fputc(' ', f);
+            write_string(f, ref_name(c, fl->aux, *(const int *)p));
+            break;
+        case K_VECTOR: {
+            const int n = fl->aux ? (int)fl->aux : c->dimension;
+            for (int k = 0; k < n; ++k) {
+                fputs(k ? ", " : " [", f);
+                write_number(f, ((const double *)p)[k]);
+            }
+            fputc(']', f);
+            break;
+        }
+        case K_MAP:
+            fputc('\n', f);
+            write_map(c, f, fl->sub, (const char *)p, indent + 2, 0);
+            continue;
+        case K_LIST:
+            fputc('\n', f);
+            for (int k = 0; k < *(const int *)(base + fl->aux); ++k)
+                write_map(c, f, fl->sub, (const char *)p + (size_t)k * fl->sub->size, indent + 4,
+                          1);
+            continue;
+        }
+        fputc('\n', f);
+    }
+}
+
+int case_write_resolved(const struct sph_case *c, FILE *f)
+{
+    fprintf(f, "# %s: the resolved case, every default filled in (SI units)\n", c->name);
+    write_map(c, f, &case_schema, (const char *)c, 0, 0);
+    return fflush(f) || ferror(f) ? -1 : 0;
+}
+
+const char *case_kernel_name(enum sph_kernel_type k)
+{
+    return (unsigned)k < SPH_KERNEL_COUNT ? kernel_names[k] : "unknown";
+}

@@ -1,0 +1,74 @@
+/* OpenCL device layer: discovery, selection, checked calls, program build
+ * with an on-disk binary cache. */
+#ifndef SPH_DEVICE_H
+#define SPH_DEVICE_H
+
+#define CL_TARGET_OPENCL_VERSION 120
+#include <CL/cl.h>
+#ifndef CL_PLATFORM_NOT_FOUND_KHR
+#define CL_PLATFORM_NOT_FOUND_KHR -1001 /* cl_khr_icd: no platform installed */
+#endif
+#include <stddef.h>
+#include <stdio.h>
+
+struct sph_device {
+    cl_platform_id platform;
+    cl_device_id device;
+    cl_context context;
+    cl_command_queue queue;
+    cl_program program;
+    char name[256];
+    char platform_name[256];
+    char driver_version[128];
+    cl_ulong global_memory;
+    cl_ulong max_allocation;
+    int has_double;
+    int from_cache; /* the program came from the binary cache */
+};
+
+/* Name of an OpenCL error code, e.g. "CL_OUT_OF_RESOURCES". */
+const char *cl_error_name(cl_int code);
+
+/* Prints "OpenCL call <text> failed with <name> (<code>) at <file>:<line>"
+ * and exits with status 2: a failing OpenCL call leaves no state worth
+ * continuing from. */
+void cl_fail(const char *call, cl_int code, const char *file, int line);
+
+#define CL_CHECK(call)                                                                             \
+    do {                                                                                           \
+        cl_int cl_check_code_ = (call);                                                            \
+        if (cl_check_code_ != CL_SUCCESS)                                                          \
+            cl_fail(#call, cl_check_code_, __FILE__, __LINE__);                                    \
+    } while (0)
+
+/* For calls that return an object and report through an errcode pointer. */
+#define CL_CHECK_ERR(expr, err_var)                                                                \
+    do {                                                                                           \
+        if ((err_var) != CL_SUCCESS)                                                               \
+            cl_fail(expr, (err_var), __FILE__, __LINE__);                                          \
+    } while (0)
+
+/* Lists every platform and device (sph info). Returns the device count. */
+int device_list(FILE *out);
+
+/* Opens a device: `selector` is NULL (first GPU, else first CPU, else the
+ * first device), an index as printed by device_list, or a substring of the
+ * device name. Returns 0, or non-zero with one sentence in `error`. */
+int device_open(const char *selector, int profiling, struct sph_device *dev, char *error,
+                size_t error_size);
+
+/* Builds the solver program from the kernel sources under `source_dir`
+ * (include/sph_shared.h then kernels/ *.cl in pipeline order) with `options`.
+ * A binary cache keyed by a hash of source, options, device and driver makes
+ * a second build of the same program a load. Returns 0, or non-zero with the
+ * reason (and the build log on stderr). */
+int device_build(struct sph_device *dev, const char *source_dir, const char *options, char *error,
+                 size_t error_size);
+
+void device_close(struct sph_device *dev);
+
+/* The folder that holds include/ and kernels/: $SPH_SOURCE_DIR if set, else
+ * the source folder the program was built from. */
+const char *device_source_dir(void);
+
+#endif

@@ -1,0 +1,62 @@
+/* Run folder outputs: resolved case, HDF5 snapshots + XDMF index (ParaView,
+ * VisIt), CSV history, summary.json. */
+#ifndef SPH_OUTPUT_H
+#define SPH_OUTPUT_H
+
+#include <stdio.h>
+
+#include "solver.h"
+#include "sph_case.h"
+
+#define SPH_MAX_SNAPSHOTS 100000
+
+struct output {
+    char folder[SPH_PATH_MAX];
+    FILE *history;
+    int snapshot_count;
+    double *snapshot_times;
+    int particle_count;
+    int dim;
+    char probe_name[SPH_NAME_MAX];
+};
+
+/* One row of history.csv. */
+struct history_row {
+    double time, dt;
+    long step;
+    double probe;
+    double kinetic, internal, external_work;
+    double momentum[3];
+    double max_speed;
+};
+
+/* The figures a run ends with (summary line and summary.json). */
+struct run_summary {
+    const char *case_name, *device, *status, *message, *precision;
+    int particles, dimension;
+    long steps;
+    double end_time, wall_time_s, steps_per_s;
+    size_t bytes_per_particle;
+    int has_probe;
+    const char *probe_name;
+    double probe_final, probe_mean;
+    int has_reference;
+    double reference, reference_error_final, reference_e_av;
+    double energy_drift; /* |E_total(end) - E_total(0)| / max(external work, kinetic, internal) */
+    double max_neighbour_loss_fraction; /* particles that lost > half their initial neighbours */
+};
+
+/* Creates the folder (and parents), writes case.resolved.yaml and opens
+ * history.csv. Returns 0, or non-zero with a sentence in `error`. */
+int output_open(struct output *o, const char *folder, const struct sph_case *c, int particles,
+                char *error, size_t error_size);
+int output_snapshot(struct output *o, const struct host_fields *f, double time, long step,
+                    char *error, size_t error_size);
+void output_history(struct output *o, const struct history_row *row);
+int output_summary(struct output *o, const struct run_summary *s);
+void output_close(struct output *o);
+
+/* mkdir -p */
+int make_folders(const char *path);
+
+#endif

@@ -1,0 +1,366 @@
+/* The time loop of `sph run`: step, watch health, write outputs, report. */
+#include "run.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "device.h"
+#include "output.h"
+#include "scene.h"
+#include "solver.h"
+
+static double wall_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* Everything the loop carries from step to step. */
+struct loop {
+    const struct sph_case *c;
+    const struct run_options *opt;
+    struct solver *s;
+    struct output *out;
+    const struct sph_scene *scene;
+    double t, dt, dt_prev, dt_initial, external_work, power_prev;
+    long step;
+    double next_history, next_snapshot, next_progress_wall, wall_start;
+    double energy_start, energy_scale;
+    double probe, window_sum, window_error_sum;
+    long window_steps;
+    int *initial_neighbours, *neighbours;
+    double max_neighbour_loss;
+    struct reduction red;
+    char message[1024];
+    const char *status;
+};
+
+static void load_vector(const struct loop *L, double t, double f[3])
+{
+    const double scale = scene_load_scale(L->scene->load, t);
+    for (int a = 0; a < 3; ++a)
+        f[a] =
+            L->scene->loaded_count ? scale * L->scene->load_force[a] / L->scene->loaded_count : 0.0;
+}
+
+static double probe_value(const struct loop *L)
+{
+    if (!L->c->has_probe)
+        return 0.0;
+    return L->red.probe_displacement[L->c->probe.quantity];
+}
+
+static void track_probe(struct loop *L)
+{
+    L->probe = probe_value(L);
+    const struct case_reference *ref = &L->c->reference;
+    if (!L->c->has_probe)
+        return;
+    const double w0 = ref->enabled ? ref->window[0] : 0.0;
+    const double w1 = ref->enabled ? ref->window[1] : L->c->numerics.end_time;
+    if (L->t >= w0 && L->t <= w1 * (1 + 1e-12)) {
+        L->window_sum += L->probe;
+        if (ref->enabled)
+            L->window_error_sum += fabs(L->probe - ref->value) / fabs(ref->value);
+        ++L->window_steps;
+    }
+}
+
+static void write_history(struct loop *L)
+{
+    struct history_row row = {.time = L->t,
+                              .dt = L->dt,
+                              .step = L->step,
+                              .probe = L->probe,
+                              .kinetic = L->red.kinetic,
+                              .internal = L->red.internal,
+                              .external_work = L->external_work,
+                              .max_speed = L->red.max_speed};
+    memcpy(row.momentum, L->red.momentum, sizeof row.momentum);
+    output_history(L->out, &row);
+}
+
+static void measure_integrity(struct loop *L)
+{
+    solver_neighbour_counts(L->s, L->neighbours);
+    int lost = 0;
+    for (int p = 0; p < L->s->n; ++p)
+        lost += 2 * L->neighbours[p] < L->initial_neighbours[p];
+    L->max_neighbour_loss = fmax(L->max_neighbour_loss, (double)lost / L->s->n);
+}
+
+static int write_snapshot(struct loop *L)
+{
+    struct host_fields f;
+    char error[512];
+    solver_read_fields(L->s, &f);
+    const int status = output_snapshot(L->out, &f, L->t, L->step, error, sizeof error);
+    host_fields_free(&f);
+    if (status)
+        fprintf(stderr, "sph: %s\n", error);
+    measure_integrity(L);
+    return status;
+}
+
+static void progress(struct loop *L, int final)
+{
+    const double now = wall_seconds();
+    if (!final && now < L->next_progress_wall)
+        return;
+    const double elapsed = now - L->wall_start, end = L->c->numerics.end_time;
+    const double rate = elapsed > 0 ? L->step / elapsed : 0;
+    const double eta = L->t > 0 ? elapsed * (end - L->t) / L->t : 0;
+    if (L->opt->quiet)
+        return;
+    if (isatty(fileno(stderr))) {
+        fprintf(stderr, "\r  t = %.4e s (%5.1f%%)  step %ld  %.0f steps/s  ETA %.0f s   %s", L->t,
+                100 * L->t / end, L->step, rate, eta, final ? "\n" : "");
+        L->next_progress_wall = now + 0.5;
+    } else {
+        fprintf(stderr, "  t = %.4e s (%5.1f%%)  step %ld  %.0f steps/s  ETA %.0f s\n", L->t,
+                100 * L->t / end, L->step, rate, eta);
+        L->next_progress_wall = now + 10.0;
+    }
+    fflush(stderr);
+}
+
+/* Returns 0 while the run is healthy; otherwise fills message/status. */
+static int check_health(struct loop *L)
+{
+    if (L->red.bad_id >= 0) {
+        const long id = L->red.bad_id;
+        const double *x = &L->scene->position[3 * id];
+        snprintf(L->message, sizeof L->message,
+                 "unstable at step %ld, t = %.6e s: particle %ld (initially at %.6g, %.6g, %.6g m) "
+                 "has a non-finite state or a speed above %.4g m/s (max speed %.4g m/s)",
+                 L->step, L->t, id, x[0], x[1], x[2], (double)L->s->run.velocity_limit,
+                 L->red.max_speed);
+        L->status = "unstable";
+        return 1;
+    }
+    if (L->dt < 1e-3 * L->dt_initial) {
+        snprintf(L->message, sizeof L->message,
+                 "unstable at step %ld, t = %.6e s: the time step collapsed to %.3e s (from "
+                 "%.3e s): max signal speed %.4g m/s",
+                 L->step, L->t, L->dt, L->dt_initial, L->red.max_signal);
+        L->status = "unstable";
+        return 1;
+    }
+    return 0;
+}
+
+static double total_energy(const struct loop *L)
+{
+    return L->red.kinetic + L->red.internal - L->external_work;
+}
+
+static int one_step(struct loop *L)
+{
+    if (L->red.max_moved >= 0.5 * L->s->skin * L->s->run.support) {
+        char error[512];
+        if (solver_sort(L->s, error, sizeof error)) {
+            snprintf(L->message, sizeof L->message, "unstable at step %ld, t = %.6e s: %s", L->step,
+                     L->t, error);
+            L->status = "unstable";
+            return 1;
+        }
+    }
+    double load[3];
+    load_vector(L, L->t, load);
+    const double end = L->c->numerics.end_time;
+    L->dt = L->c->numerics.cfl * L->s->run.h / L->red.max_signal;
+    if (L->t + L->dt > end)
+        L->dt = fmax(end - L->t, 1e-30);
+    solver_step(L->s, L->dt, L->dt_prev, load);
+    L->t += L->dt;
+    L->dt_prev = L->dt;
+    ++L->step;
+    load_vector(L, L->t, load);
+    solver_reduce(L->s, load, &L->red);
+    L->external_work += 0.5 * (L->power_prev + L->red.load_power) * L->dt;
+    L->power_prev = L->red.load_power;
+    L->energy_scale =
+        fmax(L->energy_scale, fmax(fabs(L->external_work), L->red.kinetic + fabs(L->red.internal)));
+    track_probe(L);
+    return check_health(L);
+}
+
+static void finish_summary(struct loop *L, struct run_summary *sum)
+{
+    const double wall = wall_seconds() - L->wall_start;
+    memset(sum, 0, sizeof *sum);
+    sum->case_name = L->c->name;
+    sum->device = L->s->dev->name;
+    sum->status = L->status;
+    sum->message = L->message;
+    sum->precision = L->c->numerics.double_precision ? "double" : "float";
+    sum->particles = L->s->n;
+    sum->dimension = L->c->dimension;
+    sum->steps = L->step;
+    sum->end_time = L->t;
+    sum->wall_time_s = wall;
+    sum->steps_per_s = wall > 0 ? L->step / wall : 0;
+    sum->bytes_per_particle = solver_bytes_per_particle(L->s);
+    sum->has_probe = L->c->has_probe;
+    sum->probe_name = L->c->has_probe ? L->c->probe.name : "";
+    sum->probe_final = L->probe;
+    sum->probe_mean = L->window_steps ? L->window_sum / L->window_steps : NAN;
+    sum->has_reference = L->c->reference.enabled;
+    sum->reference = L->c->reference.value;
+    sum->reference_error_final = fabs(L->probe - sum->reference) / fabs(sum->reference);
+    sum->reference_e_av = L->window_steps ? L->window_error_sum / L->window_steps : NAN;
+    sum->energy_drift =
+        L->energy_scale > 0 ? fabs(total_energy(L) - L->energy_start) / L->energy_scale : 0;
+    sum->max_neighbour_loss_fraction = L->max_neighbour_loss;
+}
+
+static void print_summary_line(const struct run_summary *sum, const char *folder)
+{
+    printf("%s: %s", sum->case_name, sum->status);
+    if (sum->has_probe) {
+        printf(" | %s final %.4f mm, mean %.4f mm", sum->probe_name, 1e3 * sum->probe_final,
+               1e3 * sum->probe_mean);
+        if (sum->has_reference)
+            printf(" vs reference %.4f mm: e_av %.2f%%, final error %.2f%%", 1e3 * sum->reference,
+                   100 * sum->reference_e_av, 100 * sum->reference_error_final);
+    }
+    printf(" | %d particles, %ld steps, %.1f s wall, %.0f steps/s | %s\n", sum->particles,
+           sum->steps, sum->wall_time_s, sum->steps_per_s, folder);
+}
+
+static int time_loop(struct loop *L)
+{
+    const struct case_output *o = &L->c->output;
+    while (L->t < L->c->numerics.end_time * (1 - 1e-12)) {
+        if (one_step(L)) {
+            write_history(L);
+            write_snapshot(L);
+            return 3;
+        }
+        if (L->t >= L->next_history * (1 - 1e-9)) {
+            write_history(L);
+            L->next_history += o->history_interval;
+        }
+        if (L->t >= L->next_snapshot * (1 - 1e-9)) {
+            if (write_snapshot(L))
+                return 1;
+            L->next_snapshot += o->snapshot_interval;
+        }
+        progress(L, 0);
+    }
+    if (L->out->snapshot_times[L->out->snapshot_count - 1] < L->t)
+        write_snapshot(L);
+    return 0;
+}
+
+static void default_folder(const struct sph_case *c, char *folder, size_t size)
+{
+    const time_t now = time(NULL);
+    struct tm tm;
+    localtime_r(&now, &tm);
+    char stamp[32];
+    strftime(stamp, sizeof stamp, "%Y%m%d-%H%M%S", &tm);
+    snprintf(folder, size, "runs/%s-%s", c->name, stamp);
+}
+
+static int start(struct loop *L, char *error, size_t size)
+{
+    if (solver_sort(L->s, error, size))
+        return 1;
+    solver_prime(L->s);
+    const double zero[3] = {0, 0, 0};
+    solver_reduce(L->s, zero, &L->red);
+    L->dt_initial = L->c->numerics.cfl * L->s->run.h / L->red.max_signal;
+    L->dt = L->dt_initial;
+    L->energy_start = total_energy(L);
+    L->initial_neighbours = malloc(sizeof(int) * (size_t)L->s->n);
+    L->neighbours = malloc(sizeof(int) * (size_t)L->s->n);
+    solver_neighbour_counts(L->s, L->initial_neighbours);
+    track_probe(L);
+    write_history(L);
+    L->next_history = L->c->output.history_interval;
+    L->next_snapshot = L->c->output.snapshot_interval;
+    return write_snapshot(L);
+}
+
+int run_case(const struct run_options *opt)
+{
+    char error[SPH_ERROR_MAX] = "";
+    struct sph_case *c = calloc(1, sizeof *c);
+    if (case_load(opt->case_path, opt->set_count, opt->sets, c, error, sizeof error)) {
+        fprintf(stderr, "sph: %s\n", error);
+        free(c);
+        return 1;
+    }
+    struct sph_scene scene;
+    struct sph_device dev;
+    struct solver s;
+    struct output out;
+    int code = 1;
+    if (scene_build(c, &scene, error, sizeof error)) {
+        fprintf(stderr, "sph: %s\n", error);
+        free(c);
+        return 1;
+    }
+    char options[512];
+    solver_build_options(c, options, sizeof options);
+    if (device_open(opt->device, opt->profile, &dev, error, sizeof error) ||
+        (c->numerics.double_precision && !dev.has_double &&
+         snprintf(error, sizeof error, "%s has no double precision; use precision: float",
+                  dev.name) > 0) ||
+        device_build(&dev, device_source_dir(), options, error, sizeof error)) {
+        fprintf(stderr, "sph: %s\n", error);
+        scene_free(&scene);
+        free(c);
+        return 2;
+    }
+    if (solver_create(&s, &dev, c, &scene, error, sizeof error)) {
+        fprintf(stderr, "sph: %s\n", error);
+        device_close(&dev);
+        scene_free(&scene);
+        free(c);
+        return 2;
+    }
+    char folder[SPH_PATH_MAX];
+    if (opt->out_dir)
+        snprintf(folder, sizeof folder, "%s", opt->out_dir);
+    else
+        default_folder(c, folder, sizeof folder);
+    if (!opt->quiet)
+        fprintf(stderr,
+                "sph: %s: %d particles (%d-D), %s kernel, h = %.3g m, on %s%s; writing %s\n",
+                c->name, scene.count, c->dimension, case_kernel_name(c->numerics.kernel),
+                (double)s.run.h, dev.name, dev.from_cache ? " (cached program)" : "", folder);
+    struct loop L = {.c = c,
+                     .opt = opt,
+                     .s = &s,
+                     .out = &out,
+                     .scene = &scene,
+                     .status = "completed",
+                     .wall_start = wall_seconds()};
+    if (output_open(&out, folder, c, scene.count, error, sizeof error) == 0 &&
+        start(&L, error, sizeof error) == 0) {
+        code = time_loop(&L);
+        progress(&L, 1);
+        struct run_summary sum;
+        finish_summary(&L, &sum);
+        output_summary(&out, &sum);
+        if (code == 3)
+            fprintf(stderr, "sph: %s; the last state is in %s\n", L.message, folder);
+        print_summary_line(&sum, folder);
+    } else {
+        fprintf(stderr, "sph: %s\n", error);
+    }
+    free(L.initial_neighbours);
+    free(L.neighbours);
+    output_close(&out);
+    solver_release(&s);
+    device_close(&dev);
+    scene_free(&scene);
+    free(c);
+    return code;
+}

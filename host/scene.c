@@ -1,0 +1,192 @@
+/* Lattice fill of the case's bodies, group flags and the load. */
+#include "scene.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+static int lattice_count(double length, double dx)
+{
+    return (int)floor(length / dx + 0.5);
+}
+
+/* Particles of a box on a square lattice of spacing dx, centred in the box
+ * so that a box of n dx holds n particles per axis at half-spacing from its
+ * faces (bodies that share a face then continue one lattice). */
+static int box_particles(const struct case_box *box, int dim, double dx, int counts[3])
+{
+    int total = 1;
+    for (int a = 0; a < 3; ++a) {
+        counts[a] = a < dim ? lattice_count(box->max[a] - box->min[a], dx) : 1;
+        if (counts[a] < 1)
+            counts[a] = 1;
+        total *= counts[a];
+    }
+    return total;
+}
+
+static int inside(const struct case_box *box, const double *x, int dim)
+{
+    for (int a = 0; a < dim; ++a)
+        if (x[a] < box->min[a] || x[a] > box->max[a])
+            return 0;
+    return 1;
+}
+
+static int allocate(struct sph_scene *s, int n)
+{
+    s->position = calloc((size_t)n * 3, sizeof(double));
+    s->velocity = calloc((size_t)n * 3, sizeof(double));
+    s->mass = calloc((size_t)n, sizeof(double));
+    s->density = calloc((size_t)n, sizeof(double));
+    s->material = calloc((size_t)n, sizeof(int));
+    s->flags = calloc((size_t)n, sizeof(int));
+    return s->position && s->velocity && s->mass && s->density && s->material && s->flags;
+}
+
+static int fill_bodies(const struct sph_case *c, struct sph_scene *s, int *body_of)
+{
+    const int dim = c->dimension;
+    const double dx = c->numerics.dx;
+    int n = 0;
+    for (int b = 0; b < c->body_count; ++b) {
+        const struct case_body *body = &c->bodies[b];
+        const struct case_material *m = &c->materials[body->material];
+        int counts[3];
+        box_particles(&body->box, dim, dx, counts);
+        double start[3];
+        for (int a = 0; a < 3; ++a)
+            start[a] =
+                a < dim ? 0.5 * (body->box.min[a] + body->box.max[a]) - 0.5 * (counts[a] - 1) * dx
+                        : 0.0;
+        for (int k = 0; k < counts[2]; ++k)
+            for (int j = 0; j < counts[1]; ++j)
+                for (int i = 0; i < counts[0]; ++i, ++n) {
+                    const int idx[3] = {i, j, k};
+                    for (int a = 0; a < 3; ++a) {
+                        s->position[3 * n + a] = a < dim ? start[a] + idx[a] * dx : 0.0;
+                        s->velocity[3 * n + a] = body->fixed ? 0.0 : body->velocity[a];
+                    }
+                    s->density[n] = m->density;
+                    s->mass[n] = m->density * pow(dx, dim);
+                    s->material[n] = body->material;
+                    s->flags[n] = body->fixed ? SPH_FLAG_FIXED : 0;
+                    body_of[n] = b;
+                }
+    }
+    return n;
+}
+
+static int apply_groups(const struct sph_case *c, struct sph_scene *s, const int *body_of,
+                        char *error, size_t error_size)
+{
+    for (int g = 0; g < c->group_count; ++g) {
+        const struct case_group *group = &c->groups[g];
+        const int is_probe = c->has_probe && c->probe.group == g;
+        int members = 0;
+        if (group->load.enabled && s->load) {
+            snprintf(error, error_size,
+                     "%s: group '%s' carries a second load; one loaded group is supported", c->path,
+                     group->name);
+            return 1;
+        }
+        for (int p = 0; p < s->count; ++p) {
+            if ((group->body >= 0 && body_of[p] != group->body) ||
+                !inside(&group->region, &s->position[3 * p], c->dimension))
+                continue;
+            ++members;
+            if (group->fixed) {
+                s->flags[p] |= SPH_FLAG_FIXED;
+                s->velocity[3 * p] = s->velocity[3 * p + 1] = s->velocity[3 * p + 2] = 0;
+            }
+            if (group->load.enabled)
+                s->flags[p] |= SPH_FLAG_LOADED;
+            if (is_probe)
+                s->flags[p] |= SPH_FLAG_PROBE;
+        }
+        if (members == 0) {
+            snprintf(error, error_size,
+                     "%s: group '%s' holds no particle: its region contains no lattice point at "
+                     "dx = %g m",
+                     c->path, group->name, c->numerics.dx);
+            return 1;
+        }
+        if (group->load.enabled) {
+            s->load = &group->load;
+            s->loaded_count = members;
+            /* 2-D particles are per metre of thickness: so is their load */
+            const double per_length = c->dimension == 2 ? 1.0 / c->thickness : 1.0;
+            for (int a = 0; a < 3; ++a)
+                s->load_force[a] = group->load.force[a] * per_length;
+        }
+        if (is_probe)
+            s->probe_count = members;
+    }
+    return 0;
+}
+
+int scene_build(const struct sph_case *c, struct sph_scene *s, char *error, size_t error_size)
+{
+    memset(s, 0, sizeof *s);
+    long total = 0;
+    for (int b = 0; b < c->body_count; ++b) {
+        int counts[3];
+        total += box_particles(&c->bodies[b].box, c->dimension, c->numerics.dx, counts);
+    }
+    if (total <= 0 || total > 200000000L) {
+        snprintf(error, error_size,
+                 "%s: the bodies give %ld particles at dx = %g m (expected 1 "
+                 "to 200 million)",
+                 c->path, total, c->numerics.dx);
+        return 1;
+    }
+    int *body_of = calloc((size_t)total, sizeof(int));
+    if (!body_of || !allocate(s, (int)total)) {
+        free(body_of);
+        scene_free(s);
+        snprintf(error, error_size, "out of host memory for %ld particles", total);
+        return 1;
+    }
+    s->count = fill_bodies(c, s, body_of);
+    const int status = apply_groups(c, s, body_of, error, error_size);
+    free(body_of);
+    if (status) {
+        scene_free(s);
+        return status;
+    }
+    for (int a = 0; a < 3; ++a) {
+        s->domain_min[a] = HUGE_VAL;
+        s->domain_max[a] = -HUGE_VAL;
+    }
+    for (int p = 0; p < s->count; ++p)
+        for (int a = 0; a < 3; ++a) {
+            s->domain_min[a] = fmin(s->domain_min[a], s->position[3 * p + a]);
+            s->domain_max[a] = fmax(s->domain_max[a], s->position[3 * p + a]);
+        }
+    return 0;
+}
+
+double scene_load_scale(const struct case_load *load, double t)
+{
+    if (!load || !load->enabled)
+        return 0.0;
+    switch (load->law) {
+    case SPH_LOAD_LINEAR_RAMP:
+        return t < load->ramp_time ? t / load->ramp_time : 1.0;
+    case SPH_LOAD_QUADRATIC_RAMP:
+        return t < load->ramp_time ? (t / load->ramp_time) * (t / load->ramp_time) : 1.0;
+    default:
+        return 1.0;
+    }
+}
+
+void scene_free(struct sph_scene *s)
+{
+    free(s->position);
+    free(s->velocity);
+    free(s->mass);
+    free(s->density);
+    free(s->material);
+    free(s->flags);
+    memset(s, 0, sizeof *s);
+}

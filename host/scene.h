@@ -1,0 +1,33 @@
+/* Scene: particles from a case (lattice fill of the bodies, groups, loads). */
+#ifndef SPH_SCENE_H
+#define SPH_SCENE_H
+
+#include "sph_case.h"
+
+/* Host copy of the initial particle state, array of structures by field.
+ * Vectors are stored with 3 components (z = 0 in 2-D). */
+struct sph_scene {
+    int count;
+    double *position; /* 3 per particle, m */
+    double *velocity; /* 3 per particle, m/s */
+    double *mass;     /* kg (2-D: kg per metre of thickness) */
+    double *density;  /* kg/m^3 */
+    int *material;
+    int *flags;       /* enum sph_flag */
+    int loaded_count; /* particles that carry the load */
+    int probe_count;
+    double load_force[3];                /* total load at full scale, N (2-D: N per metre) */
+    const struct case_load *load;        /* the loaded group's law, or NULL */
+    double domain_min[3], domain_max[3]; /* initial bounding box, m */
+};
+
+/* Fills `scene` from `c`. Returns 0, or non-zero with one sentence in
+ * `error` (no particles, overlapping loads, empty group). */
+int scene_build(const struct sph_case *c, struct sph_scene *scene, char *error, size_t error_size);
+
+/* The load scale factor of the time law at time t (0..1). */
+double scene_load_scale(const struct case_load *load, double t);
+
+void scene_free(struct sph_scene *scene);
+
+#endif

@@ -1,0 +1,136 @@
+/* The solver on the device: particle buffers (state.c) and the fixed list of
+ * kernel launches of a step (step.c). The host never loops over particles
+ * inside the time loop; it enqueues kernels and reads back small reductions. */
+#ifndef SPH_SOLVER_H
+#define SPH_SOLVER_H
+
+#include "device.h"
+#include "scene.h"
+#include "sph_case.h"
+
+/* Work-group size of the reduction kernels: REDUCE_WG in kernels/common.cl. */
+#define REDUCE_GROUP_SIZE 64
+
+/* Host evaluations of the device's smoothing kernels (kernels/smoothing.cl
+ * compiled as C, see host/smoothing.c). */
+double sph_support_q(int kernel);
+double sph_kernel_w_host(int kernel, int dim, double r, double h);
+
+/* Element kinds of the particle fields (sizes depend on dimension and
+ * precision; see kernels/common.cl). */
+enum element_kind { ELEM_REAL, ELEM_INT, ELEM_VEC, ELEM_SYMT, ELEM_FULLT, ELEM_COUNT };
+
+/* Per-particle fields. Those before FIELD_PERSISTENT_END carry state from one
+ * step to the next and are reordered by every sort; the rest are rates and
+ * scratch, rewritten each step. */
+enum field {
+    FIELD_POS,
+    FIELD_POS0,
+    FIELD_DISPLACEMENT,
+    FIELD_VEL,
+    FIELD_VEL_HALF,
+    FIELD_DENSITY_CHANGE,
+    FIELD_ENERGY,
+    FIELD_STRESS,
+    FIELD_PLASTIC_STRAIN,
+    FIELD_MASS,
+    FIELD_FLAGS,
+    FIELD_MATERIAL,
+    FIELD_ID,
+    FIELD_PERSISTENT_END,
+    FIELD_POS_AT_SORT = FIELD_PERSISTENT_END,
+    FIELD_RHO,
+    FIELD_VELOCITY_GRADIENT,
+    FIELD_DENSITY_RATE,
+    FIELD_CSPH,
+    FIELD_PRESSURE,
+    FIELD_ARTIFICIAL_STRESS,
+    FIELD_ACCELERATION,
+    FIELD_ENERGY_RATE,
+    FIELD_XSPH_VELOCITY,
+    FIELD_COUNT
+};
+
+struct field_info {
+    const char *name;
+    enum element_kind kind;
+};
+extern const struct field_info field_table[FIELD_COUNT];
+
+struct grid {
+    double origin[3];
+    double cell_size; /* support * (1 + skin), m */
+    int dims[3];
+    int cell_count;
+    int cell_capacity;
+};
+
+struct kernels {
+    cl_kernel cell_keys, bitonic_step, fill_int, cell_ranges, mark_sorted, bounds;
+    cl_kernel gather[ELEM_COUNT];
+    cl_kernel pass1, material, pass2, kick, drift, reduce, neighbour_count;
+};
+
+/* What the per-step reduction returns, combined in double. */
+struct reduction {
+    double max_signal, max_speed, max_moved;
+    long bad_id; /* -1 when every particle is healthy */
+    double load_power, kinetic, internal;
+    double probe_displacement[3];
+    double momentum[3];
+};
+
+struct solver {
+    struct sph_device *dev;
+    int dim, n, padded_n, double_precision;
+    size_t element_size[ELEM_COUNT];
+    cl_mem field[FIELD_COUNT];
+    cl_mem spare[ELEM_COUNT];
+    cl_mem sort_keys, cell_start, cell_end, partials, bounds_partials, materials, run_params;
+    int reduce_groups;
+    struct grid grid;
+    struct kernels k;
+    struct sph_run_params run;
+    double skin;            /* grid margin as a fraction of the support */
+    double thickness_scale; /* 2-D: thickness, so energies come out in J */
+    int probe_count;
+};
+
+/* -D options for the program from the case. */
+void solver_build_options(const struct sph_case *c, char *options, size_t size);
+
+/* Creates buffers, uploads the scene and creates the kernels. Returns 0, or
+ * non-zero with a sentence in `error` (e.g. not enough device memory). */
+int solver_create(struct solver *s, struct sph_device *dev, const struct sph_case *c,
+                  const struct sph_scene *scene, char *error, size_t error_size);
+void solver_release(struct solver *s);
+
+/* Bytes of device memory per particle, over all per-particle buffers. */
+size_t solver_bytes_per_particle(const struct solver *s);
+
+/* Re-sorts particles by cell and rebuilds the cell ranges. Returns non-zero
+ * with `error` when the particles spread over more cells than the device can
+ * hold (a particle left the domain). */
+int solver_sort(struct solver *s, char *error, size_t error_size);
+/* Pressure and artificial stress of the initial state (before step 1). */
+void solver_prime(struct solver *s);
+/* One leap-frog step (see kernels/integrate.cl): pass 2, kick, pass 1,
+ * material update, drift. `load` is the force per loaded particle at t^n. */
+void solver_step(struct solver *s, double dt, double dt_prev, const double load[3]);
+void solver_reduce(struct solver *s, const double load[3], struct reduction *out);
+
+/* Host copies of the output fields, in original particle order (by id). */
+struct host_fields {
+    int n;
+    double *pos, *vel, *disp; /* 3 per particle */
+    double *rho, *pressure, *energy, *plastic_strain, *von_mises;
+    double *stress; /* 6 per particle: xx, xy, xz, yy, yz, zz (XDMF Tensor6), Pa */
+    int *flags, *material;
+};
+int solver_read_fields(struct solver *s, struct host_fields *out);
+
+/* Neighbours within the support per particle, in original order (by id). */
+void solver_neighbour_counts(struct solver *s, int *count_by_id);
+void host_fields_free(struct host_fields *f);
+
+#endif

@@ -1,0 +1,359 @@
+/* Device buffers: one per particle field (structure of arrays), created from
+ * the scene, read back for output. */
+#include "solver.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+const struct field_info field_table[FIELD_COUNT] = {
+    [FIELD_POS] = {"position", ELEM_VEC},
+    [FIELD_POS0] = {"initial_position", ELEM_VEC},
+    [FIELD_DISPLACEMENT] = {"displacement", ELEM_VEC},
+    [FIELD_VEL] = {"velocity", ELEM_VEC},
+    [FIELD_VEL_HALF] = {"velocity_half_step", ELEM_VEC},
+    [FIELD_DENSITY_CHANGE] = {"density_change", ELEM_REAL},
+    [FIELD_RHO] = {"density", ELEM_REAL},
+    [FIELD_ENERGY] = {"specific_internal_energy", ELEM_REAL},
+    [FIELD_STRESS] = {"deviatoric_stress", ELEM_SYMT},
+    [FIELD_PLASTIC_STRAIN] = {"plastic_strain", ELEM_REAL},
+    [FIELD_MASS] = {"mass", ELEM_REAL},
+    [FIELD_FLAGS] = {"flags", ELEM_INT},
+    [FIELD_MATERIAL] = {"material", ELEM_INT},
+    [FIELD_ID] = {"id", ELEM_INT},
+    [FIELD_POS_AT_SORT] = {"position_at_sort", ELEM_VEC},
+    [FIELD_VELOCITY_GRADIENT] = {"velocity_gradient", ELEM_FULLT},
+    [FIELD_DENSITY_RATE] = {"density_rate", ELEM_REAL},
+    [FIELD_CSPH] = {"csph_correction", ELEM_FULLT},
+    [FIELD_PRESSURE] = {"pressure", ELEM_REAL},
+    [FIELD_ARTIFICIAL_STRESS] = {"artificial_stress", ELEM_SYMT},
+    [FIELD_ACCELERATION] = {"acceleration", ELEM_VEC},
+    [FIELD_ENERGY_RATE] = {"energy_rate", ELEM_REAL},
+    [FIELD_XSPH_VELOCITY] = {"xsph_velocity", ELEM_VEC},
+};
+
+void solver_build_options(const struct sph_case *c, char *options, size_t size)
+{
+    const struct case_numerics *num = &c->numerics;
+    int plastic = 0;
+    for (int m = 0; m < c->material_count; ++m)
+        plastic |= c->materials[m].strength != SPH_STRENGTH_ELASTIC;
+    snprintf(options, size, "-cl-std=CL1.2 -DSPH_DIM=%d -DSPH_KERNEL=%d%s%s%s%s%s%s", c->dimension,
+             (int)num->kernel,
+             c->dimension == 2 && c->plane == SPH_PLANE_STRESS ? " -DSPH_PLANE_STRESS" : "",
+             num->csph ? " -DSPH_CSPH" : "", num->as_epsilon > 0 ? " -DSPH_ARTIFICIAL_STRESS" : "",
+             num->xsph_epsilon > 0 ? " -DSPH_XSPH" : "", plastic ? " -DSPH_PLASTICITY" : "",
+             num->double_precision ? " -DSPH_DOUBLE" : "");
+}
+
+size_t solver_bytes_per_particle(const struct solver *s)
+{
+    size_t bytes = 0;
+    for (int f = 0; f < FIELD_COUNT; ++f)
+        bytes += s->element_size[field_table[f].kind];
+    for (int e = 0; e < ELEM_COUNT; ++e)
+        bytes += s->element_size[e];     /* the gather spares */
+    return bytes + 2 * sizeof(cl_ulong); /* sort keys, padded to a power of two */
+}
+
+static cl_mem create_buffer(struct solver *s, size_t bytes)
+{
+    cl_int err = CL_SUCCESS;
+    cl_mem m = clCreateBuffer(s->dev->context, CL_MEM_READ_WRITE, bytes ? bytes : 16, NULL, &err);
+    CL_CHECK_ERR("clCreateBuffer", err);
+    return m;
+}
+
+/* Converts doubles to the device real type and uploads them. */
+static void upload_reals(struct solver *s, cl_mem buffer, const double *values, size_t count)
+{
+    const size_t r = s->element_size[ELEM_REAL];
+    unsigned char *tmp = malloc(count * r + 1);
+    for (size_t k = 0; k < count; ++k) {
+        if (s->double_precision)
+            memcpy(tmp + k * r, &values[k], r);
+        else {
+            const float v = (float)values[k];
+            memcpy(tmp + k * r, &v, r);
+        }
+    }
+    CL_CHECK(
+        clEnqueueWriteBuffer(s->dev->queue, buffer, CL_TRUE, 0, count * r, tmp, 0, NULL, NULL));
+    free(tmp);
+}
+
+/* 3-component host vectors to the device vec layout (2 or 4 reals). */
+static void upload_vectors(struct solver *s, cl_mem buffer, const double *xyz, int n)
+{
+    const int width = s->dim == 2 ? 2 : 4;
+    double *wide = calloc((size_t)n * width, sizeof(double));
+    for (int p = 0; p < n; ++p)
+        for (int a = 0; a < s->dim; ++a)
+            wide[(size_t)p * width + a] = xyz[3 * p + a];
+    upload_reals(s, buffer, wide, (size_t)n * width);
+    free(wide);
+}
+
+static void upload_ints(struct solver *s, cl_mem buffer, const int *values, int n)
+{
+    CL_CHECK(clEnqueueWriteBuffer(s->dev->queue, buffer, CL_TRUE, 0, (size_t)n * sizeof(cl_int),
+                                  values, 0, NULL, NULL));
+}
+
+static void zero_buffer(struct solver *s, cl_mem buffer, size_t bytes)
+{
+    void *zeros = calloc(1, bytes ? bytes : 1);
+    CL_CHECK(clEnqueueWriteBuffer(s->dev->queue, buffer, CL_TRUE, 0, bytes, zeros, 0, NULL, NULL));
+    free(zeros);
+}
+
+static void upload_materials(struct solver *s, const struct sph_case *c)
+{
+    double values[SPH_MAX_MATERIALS][8];
+    struct sph_material table[SPH_MAX_MATERIALS];
+    memset(table, 0, sizeof table);
+    for (int m = 0; m < c->material_count; ++m) {
+        const struct case_material *cm = &c->materials[m];
+        const double nu = cm->poisson_ratio, e = cm->youngs_modulus;
+        const double bulk = e / (3.0 * (1.0 - 2.0 * nu)), shear = e / (2.0 * (1.0 + nu));
+        values[m][0] = cm->density;
+        values[m][1] = bulk;
+        values[m][2] = shear;
+        values[m][3] = sqrt((bulk + 4.0 * shear / 3.0) / cm->density);
+        values[m][4] = cm->yield_stress;
+        values[m][5] = 0.0;
+        values[m][6] = 0.0;
+        values[m][7] = nu / (1.0 - nu);
+        table[m].density = (real)values[m][0];
+        table[m].bulk_modulus = (real)values[m][1];
+        table[m].shear_modulus = (real)values[m][2];
+        table[m].sound_speed = (real)values[m][3];
+        table[m].yield_stress = (real)values[m][4];
+        table[m].plane_stress_nu = (real)values[m][7];
+        table[m].eos = cm->eos;
+        table[m].strength = cm->strength;
+    }
+    /* The struct holds `real`, fixed at host compile time to float; a double
+     * build of the kernels gets a converted copy. */
+    if (!s->double_precision) {
+        CL_CHECK(clEnqueueWriteBuffer(s->dev->queue, s->materials, CL_TRUE, 0,
+                                      sizeof table[0] * (size_t)c->material_count, table, 0, NULL,
+                                      NULL));
+        return;
+    }
+    struct {
+        cl_double v[8];
+        cl_int eos, strength, pad0, pad1;
+    } wide[SPH_MAX_MATERIALS];
+    memset(wide, 0, sizeof wide);
+    for (int m = 0; m < c->material_count; ++m) {
+        for (int k = 0; k < 8; ++k)
+            wide[m].v[k] = values[m][k];
+        wide[m].eos = c->materials[m].eos;
+        wide[m].strength = c->materials[m].strength;
+    }
+    CL_CHECK(clEnqueueWriteBuffer(s->dev->queue, s->materials, CL_TRUE, 0,
+                                  sizeof wide[0] * (size_t)c->material_count, wide, 0, NULL, NULL));
+}
+
+static void upload_run_params(struct solver *s)
+{
+    const double v[10] = {
+        s->run.h,          s->run.support,       s->run.av_alpha,     s->run.av_beta,
+        s->run.as_epsilon, s->run.as_inv_w_dx,   s->run.xsph_epsilon, s->run.damping,
+        s->run.thickness,  s->run.velocity_limit};
+    if (!s->double_precision) {
+        CL_CHECK(clEnqueueWriteBuffer(s->dev->queue, s->run_params, CL_TRUE, 0, sizeof s->run,
+                                      &s->run, 0, NULL, NULL));
+        return;
+    }
+    struct {
+        cl_double v[10];
+        cl_int as_exponent, material_count;
+    } wide;
+    for (int k = 0; k < 10; ++k)
+        wide.v[k] = v[k];
+    wide.as_exponent = s->run.as_exponent;
+    wide.material_count = s->run.material_count;
+    CL_CHECK(clEnqueueWriteBuffer(s->dev->queue, s->run_params, CL_TRUE, 0, sizeof wide, &wide, 0,
+                                  NULL, NULL));
+}
+
+int solver_create_buffers(struct solver *s, const struct sph_scene *scene, char *error,
+                          size_t error_size)
+{
+    const size_t total = solver_bytes_per_particle(s) * (size_t)s->n;
+    if (total > s->dev->global_memory) {
+        snprintf(error, error_size,
+                 "the case needs %.2f GiB of device memory (%zu bytes x %d particles) but %s has "
+                 "%.2f GiB; use a coarser dx (for PoCL, POCL_MEMORY_LIMIT=<GiB> raises the limit)",
+                 (double)total / (1 << 30), solver_bytes_per_particle(s), s->n, s->dev->name,
+                 (double)s->dev->global_memory / (1 << 30));
+        return 1;
+    }
+    const size_t largest = s->element_size[ELEM_FULLT] * (size_t)s->padded_n;
+    if (largest > s->dev->max_allocation) {
+        snprintf(error, error_size,
+                 "one buffer of this case needs %.2f GiB but %s allows %.2f GiB per buffer; use a "
+                 "coarser dx",
+                 (double)largest / (1 << 30), s->dev->name,
+                 (double)s->dev->max_allocation / (1 << 30));
+        return 1;
+    }
+    for (int f = 0; f < FIELD_COUNT; ++f)
+        s->field[f] = create_buffer(s, s->element_size[field_table[f].kind] * (size_t)s->n);
+    for (int e = 0; e < ELEM_COUNT; ++e)
+        s->spare[e] = create_buffer(s, s->element_size[e] * (size_t)s->n);
+    s->sort_keys = create_buffer(s, sizeof(cl_ulong) * (size_t)s->padded_n);
+    s->partials = create_buffer(s, s->element_size[ELEM_REAL] * SPH_RED_SLOTS * s->reduce_groups);
+    s->bounds_partials = create_buffer(s, s->element_size[ELEM_REAL] * 6 * s->reduce_groups);
+    s->materials = create_buffer(s, 8 * 16 * SPH_MAX_MATERIALS);
+    s->run_params = create_buffer(s, 8 * 16);
+
+    upload_vectors(s, s->field[FIELD_POS], scene->position, s->n);
+    upload_vectors(s, s->field[FIELD_POS0], scene->position, s->n);
+    upload_vectors(s, s->field[FIELD_POS_AT_SORT], scene->position, s->n);
+    upload_vectors(s, s->field[FIELD_VEL], scene->velocity, s->n);
+    upload_vectors(s, s->field[FIELD_VEL_HALF], scene->velocity, s->n);
+    upload_reals(s, s->field[FIELD_RHO], scene->density, (size_t)s->n);
+    upload_reals(s, s->field[FIELD_MASS], scene->mass, (size_t)s->n);
+    upload_ints(s, s->field[FIELD_FLAGS], scene->flags, s->n);
+    upload_ints(s, s->field[FIELD_MATERIAL], scene->material, s->n);
+    int *ids = malloc(sizeof(int) * (size_t)s->n);
+    for (int p = 0; p < s->n; ++p)
+        ids[p] = p;
+    upload_ints(s, s->field[FIELD_ID], ids, s->n);
+    free(ids);
+    for (int f = 0; f < FIELD_COUNT; ++f)
+        if (f != FIELD_RHO &&
+            (f == FIELD_DISPLACEMENT || f == FIELD_DENSITY_CHANGE || f == FIELD_ENERGY ||
+             f == FIELD_STRESS || f == FIELD_PLASTIC_STRAIN || f > FIELD_POS_AT_SORT))
+            zero_buffer(s, s->field[f], s->element_size[field_table[f].kind] * (size_t)s->n);
+    return 0;
+}
+
+void solver_upload_constants(struct solver *s, const struct sph_case *c)
+{
+    upload_materials(s, c);
+    upload_run_params(s);
+}
+
+static void release(cl_mem *m)
+{
+    if (*m)
+        clReleaseMemObject(*m);
+    *m = NULL;
+}
+
+void solver_release_buffers(struct solver *s)
+{
+    for (int f = 0; f < FIELD_COUNT; ++f)
+        release(&s->field[f]);
+    for (int e = 0; e < ELEM_COUNT; ++e)
+        release(&s->spare[e]);
+    release(&s->sort_keys);
+    release(&s->cell_start);
+    release(&s->cell_end);
+    release(&s->partials);
+    release(&s->bounds_partials);
+    release(&s->materials);
+    release(&s->run_params);
+}
+
+/* Reads a field as doubles, `width` reals per particle. */
+static double *read_reals(struct solver *s, enum field f, int width)
+{
+    const size_t r = s->element_size[ELEM_REAL], count = (size_t)s->n * width;
+    unsigned char *raw = malloc(count * r + 1);
+    double *out = malloc(count * sizeof(double) + 1);
+    CL_CHECK(
+        clEnqueueReadBuffer(s->dev->queue, s->field[f], CL_TRUE, 0, count * r, raw, 0, NULL, NULL));
+    for (size_t k = 0; k < count; ++k) {
+        if (s->double_precision)
+            memcpy(&out[k], raw + k * r, r);
+        else {
+            float v;
+            memcpy(&v, raw + k * r, r);
+            out[k] = v;
+        }
+    }
+    free(raw);
+    return out;
+}
+
+static int *read_ints(struct solver *s, enum field f)
+{
+    int *out = malloc(sizeof(int) * (size_t)s->n + 1);
+    CL_CHECK(clEnqueueReadBuffer(s->dev->queue, s->field[f], CL_TRUE, 0,
+                                 sizeof(cl_int) * (size_t)s->n, out, 0, NULL, NULL));
+    return out;
+}
+
+static void allocate_fields(struct host_fields *o, int n)
+{
+    memset(o, 0, sizeof *o);
+    o->n = n;
+    o->pos = calloc((size_t)n * 3, sizeof(double));
+    o->vel = calloc((size_t)n * 3, sizeof(double));
+    o->disp = calloc((size_t)n * 3, sizeof(double));
+    o->stress = calloc((size_t)n * 6, sizeof(double));
+    o->rho = calloc((size_t)n, sizeof(double));
+    o->pressure = calloc((size_t)n, sizeof(double));
+    o->energy = calloc((size_t)n, sizeof(double));
+    o->plastic_strain = calloc((size_t)n, sizeof(double));
+    o->von_mises = calloc((size_t)n, sizeof(double));
+    o->flags = calloc((size_t)n, sizeof(int));
+    o->material = calloc((size_t)n, sizeof(int));
+}
+
+/* Deviatoric stress (device symt) + pressure to the full stress in XDMF
+ * Tensor6 order, and its von Mises equivalent. */
+static void stress_to_tensor6(const double *sym, int dim, double p, double out[6], double *vm)
+{
+    const double xx = sym[0], yy = sym[1], zz = sym[2], xy = sym[3];
+    const double xz = dim == 3 ? sym[4] : 0.0, yz = dim == 3 ? sym[5] : 0.0;
+    out[0] = xx - p;
+    out[1] = xy;
+    out[2] = xz;
+    out[3] = yy - p;
+    out[4] = yz;
+    out[5] = zz - p;
+    *vm = sqrt(1.5 * (xx * xx + yy * yy + zz * zz + 2.0 * (xy * xy + xz * xz + yz * yz)));
+}
+
+int solver_read_fields(struct solver *s, struct host_fields *o)
+{
+    const int vw = s->dim == 2 ? 2 : 4, sw = s->dim == 2 ? 4 : 8;
+    double *pos = read_reals(s, FIELD_POS, vw), *pos0 = read_reals(s, FIELD_DISPLACEMENT, vw);
+    double *vel = read_reals(s, FIELD_VEL, vw), *rho = read_reals(s, FIELD_RHO, 1);
+    double *p = read_reals(s, FIELD_PRESSURE, 1), *e = read_reals(s, FIELD_ENERGY, 1);
+    double *ep = read_reals(s, FIELD_PLASTIC_STRAIN, 1), *dev = read_reals(s, FIELD_STRESS, sw);
+    int *id = read_ints(s, FIELD_ID), *flags = read_ints(s, FIELD_FLAGS);
+    int *mat = read_ints(s, FIELD_MATERIAL);
+    allocate_fields(o, s->n);
+    for (int k = 0; k < s->n; ++k) {
+        const int q = id[k]; /* back to the scene's particle order */
+        for (int a = 0; a < s->dim; ++a) {
+            o->pos[3 * q + a] = pos[(size_t)k * vw + a];
+            o->vel[3 * q + a] = vel[(size_t)k * vw + a];
+            o->disp[3 * q + a] = pos0[(size_t)k * vw + a];
+        }
+        o->rho[q] = rho[k];
+        o->pressure[q] = p[k];
+        o->energy[q] = e[k];
+        o->plastic_strain[q] = ep[k];
+        o->flags[q] = flags[k];
+        o->material[q] = mat[k];
+        stress_to_tensor6(&dev[(size_t)k * sw], s->dim, p[k], &o->stress[6 * q], &o->von_mises[q]);
+    }
+    free(pos), free(pos0), free(vel), free(rho), free(p), free(e), free(ep), free(dev);
+    free(id), free(flags), free(mat);
+    return 0;
+}
+
+void host_fields_free(struct host_fields *f)
+{
+    free(f->pos), free(f->vel), free(f->disp), free(f->stress), free(f->rho), free(f->pressure);
+    free(f->energy), free(f->plastic_strain), free(f->von_mises), free(f->flags), free(f->material);
+    memset(f, 0, sizeof *f);
+}

@@ -1,0 +1,466 @@
+/* The fixed list of kernel launches: grid sort, pass 1, material, pass 2,
+ * integrate, reduce. */
+#include "solver.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+int solver_create_buffers(struct solver *s, const struct sph_scene *scene, char *error,
+                          size_t error_size);
+void solver_upload_constants(struct solver *s, const struct sph_case *c);
+void solver_release_buffers(struct solver *s);
+
+#define LOCAL_SIZE 64
+#define MAX_CELLS (1 << 26) /* 256 MiB of cell ranges: beyond, particles have left */
+
+static size_t round_up(size_t n, size_t m)
+{
+    return (n + m - 1) / m * m;
+}
+
+static cl_kernel make_kernel(struct solver *s, const char *name)
+{
+    cl_int err = CL_SUCCESS;
+    cl_kernel k = clCreateKernel(s->dev->program, name, &err);
+    if (err != CL_SUCCESS) {
+        fprintf(stderr, "sph: kernel '%s' is missing from the program\n", name);
+        cl_fail("clCreateKernel", err, __FILE__, __LINE__);
+    }
+    return k;
+}
+
+/* Sets the kernel's arguments from a list of (size, pointer) pairs. */
+struct arg {
+    size_t size;
+    const void *value;
+};
+#define MEM(m) ((struct arg){sizeof(cl_mem), &(m)})
+#define INT(i) ((struct arg){sizeof(cl_int), &(i)})
+#define RAW(size, p) ((struct arg){(size), (p)})
+
+/* SET_ARGS(kernel, a, b, ...) sets every argument, counting them itself. */
+#define SET_ARGS(k, ...)                                                                           \
+    set_args((k), (struct arg[]){__VA_ARGS__},                                                     \
+             (int)(sizeof((struct arg[]){__VA_ARGS__}) / sizeof(struct arg)))
+
+static void set_args(cl_kernel k, const struct arg *args, int count)
+{
+    for (int a = 0; a < count; ++a)
+        CL_CHECK(clSetKernelArg(k, (cl_uint)a, args[a].size, args[a].value));
+}
+
+static void launch(struct solver *s, cl_kernel k, size_t global, size_t local)
+{
+    /* an explicit work-group size: PoCL's own choice for a NULL size costs
+     * far more per launch on a CPU */
+    const size_t l = local ? local : LOCAL_SIZE;
+    const size_t g = round_up(global ? global : 1, l);
+    const cl_int err = clEnqueueNDRangeKernel(s->dev->queue, k, 1, NULL, &g, &l, 0, NULL, NULL);
+    if (err != CL_SUCCESS) {
+        char name[128] = "?";
+        clGetKernelInfo(k, CL_KERNEL_FUNCTION_NAME, sizeof name, name, NULL);
+        fprintf(stderr, "sph: launching kernel %s (%zu work-items) failed\n", name, g);
+        cl_fail("clEnqueueNDRangeKernel", err, __FILE__, __LINE__);
+    }
+}
+
+/* A real scalar argument in the device precision. */
+struct real_arg {
+    cl_double d;
+    cl_float f;
+};
+static struct arg real_value(const struct solver *s, struct real_arg *holder, double v)
+{
+    holder->d = v;
+    holder->f = (cl_float)v;
+    return s->double_precision ? RAW(sizeof(cl_double), &holder->d)
+                               : RAW(sizeof(cl_float), &holder->f);
+}
+
+/* A real4 argument in the device precision. */
+struct real4_arg {
+    cl_double4 d;
+    cl_float4 f;
+};
+static struct arg real4_value(const struct solver *s, struct real4_arg *holder, const double v[3])
+{
+    for (int a = 0; a < 4; ++a) {
+        holder->d.s[a] = a < 3 ? v[a] : 0.0;
+        holder->f.s[a] = (cl_float)holder->d.s[a];
+    }
+    return s->double_precision ? RAW(sizeof(cl_double4), &holder->d)
+                               : RAW(sizeof(cl_float4), &holder->f);
+}
+
+static void create_kernels(struct solver *s)
+{
+    struct kernels *k = &s->k;
+    k->cell_keys = make_kernel(s, "grid_cell_keys");
+    k->bitonic_step = make_kernel(s, "grid_bitonic_step");
+    k->fill_int = make_kernel(s, "grid_fill_int");
+    k->cell_ranges = make_kernel(s, "grid_cell_ranges");
+    k->mark_sorted = make_kernel(s, "grid_mark_sorted");
+    k->bounds = make_kernel(s, "grid_bounds");
+    k->gather[ELEM_REAL] = make_kernel(s, "grid_gather_real");
+    k->gather[ELEM_INT] = make_kernel(s, "grid_gather_int");
+    k->gather[ELEM_VEC] = make_kernel(s, "grid_gather_vec");
+    k->gather[ELEM_SYMT] = make_kernel(s, "grid_gather_symt");
+    k->gather[ELEM_FULLT] = NULL; /* full tensors are scratch, never reordered */
+    k->pass1 = make_kernel(s, "pass1_velocity_gradient");
+    k->material = make_kernel(s, "material_update");
+    k->pass2 = make_kernel(s, "pass2_momentum_energy");
+    k->kick = make_kernel(s, "integrate_kick");
+    k->drift = make_kernel(s, "integrate_drift");
+    k->reduce = make_kernel(s, "reduce_step");
+    k->neighbour_count = make_kernel(s, "health_neighbour_count");
+}
+
+static void release_kernels(struct solver *s)
+{
+    cl_kernel *all[] = {&s->k.cell_keys,      &s->k.bitonic_step, &s->k.fill_int, &s->k.cell_ranges,
+                        &s->k.mark_sorted,    &s->k.bounds,       &s->k.pass1,    &s->k.material,
+                        &s->k.pass2,          &s->k.kick,         &s->k.drift,    &s->k.reduce,
+                        &s->k.neighbour_count};
+    for (size_t i = 0; i < sizeof all / sizeof all[0]; ++i)
+        if (*all[i])
+            clReleaseKernel(*all[i]);
+    for (int e = 0; e < ELEM_COUNT; ++e)
+        if (s->k.gather[e])
+            clReleaseKernel(s->k.gather[e]);
+    memset(&s->k, 0, sizeof s->k);
+}
+
+static void fill_run_params(struct solver *s, const struct sph_case *c)
+{
+    const struct case_numerics *num = &c->numerics;
+    const double h = num->h_over_dx * num->dx;
+    s->run.h = (real)h;
+    s->run.support = (real)(h * sph_support_q(num->kernel));
+    s->run.av_alpha = (real)num->av_alpha;
+    s->run.av_beta = (real)num->av_beta;
+    s->run.as_epsilon = (real)num->as_epsilon;
+    s->run.as_inv_w_dx = (real)(1.0 / sph_kernel_w_host(num->kernel, c->dimension, num->dx, h));
+    s->run.xsph_epsilon = (real)num->xsph_epsilon;
+    s->run.damping = (real)num->damping;
+    s->run.thickness = (real)(c->dimension == 2 ? c->thickness : 1.0);
+    double c_max = 0;
+    for (int m = 0; m < c->material_count; ++m) {
+        const double nu = c->materials[m].poisson_ratio, e = c->materials[m].youngs_modulus;
+        const double bulk = e / (3 * (1 - 2 * nu)), shear = e / (2 * (1 + nu));
+        c_max = fmax(c_max, sqrt((bulk + 4 * shear / 3) / c->materials[m].density));
+    }
+    double v0 = 0;
+    for (int b = 0; b < c->body_count; ++b)
+        v0 = fmax(v0, sqrt(c->bodies[b].velocity[0] * c->bodies[b].velocity[0] +
+                           c->bodies[b].velocity[1] * c->bodies[b].velocity[1] +
+                           c->bodies[b].velocity[2] * c->bodies[b].velocity[2]));
+    /* Ten times the fastest wave speed plus twice the fastest initial speed:
+     * far above any physical particle speed of these cases, and reached
+     * within a few steps by a runaway instability. */
+    s->run.velocity_limit = (real)(10.0 * c_max + 2.0 * v0);
+    s->run.as_exponent = num->as_exponent;
+    s->run.material_count = c->material_count;
+}
+
+int solver_create(struct solver *s, struct sph_device *dev, const struct sph_case *c,
+                  const struct sph_scene *scene, char *error, size_t error_size)
+{
+    memset(s, 0, sizeof *s);
+    s->dev = dev;
+    s->dim = c->dimension;
+    s->n = scene->count;
+    s->double_precision = c->numerics.double_precision;
+    s->padded_n = 1;
+    while (s->padded_n < s->n)
+        s->padded_n <<= 1;
+    s->reduce_groups = 64;
+    s->skin = 0.2;
+    s->thickness_scale = c->dimension == 2 ? c->thickness : 1.0;
+    s->probe_count = scene->probe_count;
+    const size_t r = s->double_precision ? sizeof(cl_double) : sizeof(cl_float);
+    s->element_size[ELEM_REAL] = r;
+    s->element_size[ELEM_INT] = sizeof(cl_int);
+    s->element_size[ELEM_VEC] = (s->dim == 2 ? 2 : 4) * r;
+    s->element_size[ELEM_SYMT] = (s->dim == 2 ? 4 : 8) * r;
+    s->element_size[ELEM_FULLT] = (s->dim == 2 ? 4 : 16) * r;
+    fill_run_params(s, c);
+    if (solver_create_buffers(s, scene, error, error_size))
+        return 1;
+    solver_upload_constants(s, c);
+    create_kernels(s);
+    return 0;
+}
+
+void solver_release(struct solver *s)
+{
+    release_kernels(s);
+    solver_release_buffers(s);
+}
+
+static void read_bounds(struct solver *s, double lo[3], double hi[3])
+{
+    SET_ARGS(s->k.bounds, MEM(s->field[FIELD_POS]), MEM(s->bounds_partials), INT(s->n));
+    launch(s, s->k.bounds, (size_t)s->reduce_groups * REDUCE_GROUP_SIZE, REDUCE_GROUP_SIZE);
+    const size_t count = 6 * (size_t)s->reduce_groups;
+    double values[6 * 64];
+    if (s->double_precision)
+        CL_CHECK(clEnqueueReadBuffer(s->dev->queue, s->bounds_partials, CL_TRUE, 0,
+                                     count * sizeof(double), values, 0, NULL, NULL));
+    else {
+        float tmp[6 * 64];
+        CL_CHECK(clEnqueueReadBuffer(s->dev->queue, s->bounds_partials, CL_TRUE, 0,
+                                     count * sizeof(float), tmp, 0, NULL, NULL));
+        for (size_t k = 0; k < count; ++k)
+            values[k] = tmp[k];
+    }
+    for (int a = 0; a < 3; ++a) {
+        lo[a] = HUGE_VAL;
+        hi[a] = -HUGE_VAL;
+    }
+    for (int g = 0; g < s->reduce_groups; ++g)
+        for (int a = 0; a < s->dim; ++a) {
+            lo[a] = fmin(lo[a], values[6 * g + a]);
+            hi[a] = fmax(hi[a], values[6 * g + 3 + a]);
+        }
+}
+
+/* Sizes the grid to the particles' bounding box plus one cell each side. */
+static int layout_grid(struct solver *s, char *error, size_t error_size)
+{
+    double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+    read_bounds(s, lo, hi);
+    struct grid *g = &s->grid;
+    g->cell_size = s->run.support * (1.0 + s->skin);
+    double cells = 1;
+    for (int a = 0; a < 3; ++a) {
+        if (a < s->dim) {
+            if (!isfinite(lo[a]) || !isfinite(hi[a])) {
+                snprintf(error, error_size, "particle positions are not finite (NaN)");
+                return 1;
+            }
+            g->origin[a] = lo[a] - g->cell_size;
+            const double span = (hi[a] - lo[a]) / g->cell_size + 3.0;
+            cells *= span;
+            g->dims[a] = span < (double)MAX_CELLS ? (int)span : MAX_CELLS;
+        } else {
+            g->origin[a] = 0;
+            g->dims[a] = 1;
+        }
+    }
+    if (cells > (double)MAX_CELLS) {
+        snprintf(error, error_size,
+                 "particles spread over %.3g cells (box %.3g x %.3g x %.3g m): particles have "
+                 "left the domain",
+                 cells, hi[0] - lo[0], hi[1] - lo[1], s->dim == 3 ? hi[2] - lo[2] : 0.0);
+        return 1;
+    }
+    g->cell_count = g->dims[0] * g->dims[1] * g->dims[2];
+    if (g->cell_count > g->cell_capacity) {
+        if (s->cell_start)
+            clReleaseMemObject(s->cell_start), clReleaseMemObject(s->cell_end);
+        g->cell_capacity = g->cell_count + g->cell_count / 4;
+        cl_int err = CL_SUCCESS;
+        s->cell_start = clCreateBuffer(s->dev->context, CL_MEM_READ_WRITE,
+                                       sizeof(cl_int) * (size_t)g->cell_capacity, NULL, &err);
+        CL_CHECK_ERR("clCreateBuffer(cell_start)", err);
+        s->cell_end = clCreateBuffer(s->dev->context, CL_MEM_READ_WRITE,
+                                     sizeof(cl_int) * (size_t)g->cell_capacity, NULL, &err);
+        CL_CHECK_ERR("clCreateBuffer(cell_end)", err);
+    }
+    return 0;
+}
+
+static void sort_keys(struct solver *s)
+{
+    struct real4_arg origin;
+    struct real_arg inv_cell;
+    cl_int4 dims = {{s->grid.dims[0], s->grid.dims[1], s->grid.dims[2], 0}};
+    SET_ARGS(s->k.cell_keys, MEM(s->field[FIELD_POS]), MEM(s->sort_keys), INT(s->n),
+             INT(s->padded_n), real4_value(s, &origin, s->grid.origin),
+             real_value(s, &inv_cell, 1.0 / s->grid.cell_size), RAW(sizeof dims, &dims));
+    launch(s, s->k.cell_keys, (size_t)s->padded_n, 0);
+    /* bitonic network: log2(N) (log2(N) + 1) / 2 compare-exchange stages */
+    for (cl_uint k = 2; k <= (cl_uint)s->padded_n; k <<= 1)
+        for (cl_uint j = k >> 1; j > 0; j >>= 1) {
+            SET_ARGS(s->k.bitonic_step, MEM(s->sort_keys), RAW(sizeof j, &j), RAW(sizeof k, &k));
+            launch(s, s->k.bitonic_step, (size_t)s->padded_n, 0);
+        }
+}
+
+static void cell_ranges(struct solver *s)
+{
+    const cl_int minus_one = -1, cells = s->grid.cell_count;
+    cl_mem targets[2] = {s->cell_start, s->cell_end};
+    for (int t = 0; t < 2; ++t) {
+        SET_ARGS(s->k.fill_int, MEM(targets[t]), INT(minus_one), INT(cells));
+        launch(s, s->k.fill_int, (size_t)cells, 0);
+    }
+    SET_ARGS(s->k.cell_ranges, MEM(s->sort_keys), MEM(s->cell_start), MEM(s->cell_end), INT(s->n));
+    launch(s, s->k.cell_ranges, (size_t)s->n, 0);
+}
+
+static void reorder_fields(struct solver *s)
+{
+    for (int f = 0; f < FIELD_PERSISTENT_END; ++f) {
+        const enum element_kind kind = field_table[f].kind;
+        SET_ARGS(s->k.gather[kind], MEM(s->sort_keys), MEM(s->field[f]), MEM(s->spare[kind]),
+                 INT(s->n));
+        launch(s, s->k.gather[kind], (size_t)s->n, 0);
+        cl_mem swap = s->field[f];
+        s->field[f] = s->spare[kind];
+        s->spare[kind] = swap;
+    }
+    SET_ARGS(s->k.mark_sorted, MEM(s->field[FIELD_POS]), MEM(s->field[FIELD_POS_AT_SORT]),
+             INT(s->n));
+    launch(s, s->k.mark_sorted, (size_t)s->n, 0);
+}
+
+static void material(struct solver *s, double dt);
+
+int solver_sort(struct solver *s, char *error, size_t error_size)
+{
+    if (layout_grid(s, error, error_size))
+        return 1;
+    sort_keys(s);
+    cell_ranges(s);
+    reorder_fields(s);
+    /* pressure and artificial stress are derived from the reordered state;
+     * recompute them in the new order (dt = 0 changes nothing else) */
+    material(s, 0.0);
+    return 0;
+}
+
+/* The grid arguments every neighbour pass takes (GRID_ARGS). */
+#define GRID_ARG_LIST(s, dims)                                                                     \
+    MEM((s)->sort_keys), MEM((s)->cell_start), MEM((s)->cell_end), RAW(sizeof(dims), &(dims))
+
+static void pass1(struct solver *s)
+{
+    cl_mem *f = s->field;
+    const cl_int4 dims = {{s->grid.dims[0], s->grid.dims[1], s->grid.dims[2], 0}};
+    SET_ARGS(s->k.pass1, MEM(f[FIELD_POS]), MEM(f[FIELD_VEL_HALF]), MEM(f[FIELD_RHO]),
+             MEM(f[FIELD_MASS]), MEM(f[FIELD_MATERIAL]), GRID_ARG_LIST(s, dims), MEM(s->materials),
+             MEM(s->run_params), MEM(f[FIELD_VELOCITY_GRADIENT]), MEM(f[FIELD_DENSITY_RATE]),
+             MEM(f[FIELD_CSPH]), INT(s->n));
+    launch(s, s->k.pass1, (size_t)s->n, 0);
+}
+
+static void material(struct solver *s, double dt)
+{
+    cl_mem *f = s->field;
+    struct real_arg a_dt;
+    SET_ARGS(s->k.material, MEM(f[FIELD_RHO]), MEM(f[FIELD_DENSITY_CHANGE]), MEM(f[FIELD_ENERGY]),
+             MEM(f[FIELD_STRESS]), MEM(f[FIELD_PLASTIC_STRAIN]), MEM(f[FIELD_VELOCITY_GRADIENT]),
+             MEM(f[FIELD_DENSITY_RATE]), MEM(f[FIELD_ENERGY_RATE]), MEM(f[FIELD_MATERIAL]),
+             MEM(s->materials), MEM(s->run_params), real_value(s, &a_dt, dt),
+             MEM(f[FIELD_PRESSURE]), MEM(f[FIELD_ARTIFICIAL_STRESS]), INT(s->n));
+    launch(s, s->k.material, (size_t)s->n, 0);
+}
+
+static void pass2(struct solver *s)
+{
+    cl_mem *f = s->field;
+    const cl_int4 dims = {{s->grid.dims[0], s->grid.dims[1], s->grid.dims[2], 0}};
+    SET_ARGS(s->k.pass2, MEM(f[FIELD_POS]), MEM(f[FIELD_VEL]), MEM(f[FIELD_RHO]),
+             MEM(f[FIELD_MASS]), MEM(f[FIELD_PRESSURE]), MEM(f[FIELD_STRESS]),
+             MEM(f[FIELD_ARTIFICIAL_STRESS]), MEM(f[FIELD_CSPH]), MEM(f[FIELD_MATERIAL]),
+             GRID_ARG_LIST(s, dims), MEM(s->materials), MEM(s->run_params),
+             MEM(f[FIELD_ACCELERATION]), MEM(f[FIELD_ENERGY_RATE]), MEM(f[FIELD_XSPH_VELOCITY]),
+             INT(s->n));
+    launch(s, s->k.pass2, (size_t)s->n, 0);
+}
+
+void solver_prime(struct solver *s)
+{
+    pass1(s);
+    material(s, 0.0);
+}
+
+void solver_step(struct solver *s, double dt, double dt_prev, const double load[3])
+{
+    cl_mem *f = s->field;
+    struct real_arg a_dt, a_prev;
+    struct real4_arg a_load;
+    pass2(s);
+    SET_ARGS(s->k.kick, MEM(f[FIELD_VEL]), MEM(f[FIELD_VEL_HALF]), MEM(f[FIELD_ACCELERATION]),
+             MEM(f[FIELD_MASS]), MEM(f[FIELD_FLAGS]), MEM(s->run_params), real_value(s, &a_dt, dt),
+             real_value(s, &a_prev, dt_prev), real4_value(s, &a_load, load), INT(s->n));
+    launch(s, s->k.kick, (size_t)s->n, 0);
+    pass1(s);
+    material(s, dt);
+    SET_ARGS(s->k.drift, MEM(f[FIELD_POS]), MEM(f[FIELD_DISPLACEMENT]), MEM(f[FIELD_POS0]),
+             MEM(f[FIELD_VEL_HALF]), MEM(f[FIELD_XSPH_VELOCITY]), MEM(f[FIELD_FLAGS]),
+             real_value(s, &a_dt, dt), INT(s->n));
+    launch(s, s->k.drift, (size_t)s->n, 0);
+}
+
+static void combine_partials(const struct solver *s, const double *v, struct reduction *out)
+{
+    memset(out, 0, sizeof *out);
+    double bad = 1e300;
+    for (int g = 0; g < s->reduce_groups; ++g) {
+        const double *p = &v[g * SPH_RED_SLOTS];
+        out->max_signal = fmax(out->max_signal, p[SPH_RED_MAX_SIGNAL]);
+        out->max_speed = fmax(out->max_speed, p[SPH_RED_MAX_SPEED]);
+        out->max_moved = fmax(out->max_moved, p[SPH_RED_MAX_MOVED]);
+        bad = fmin(bad, p[SPH_RED_BAD_INDEX]);
+        out->load_power += p[SPH_RED_LOAD_POWER];
+        out->kinetic += p[SPH_RED_KINETIC];
+        out->internal += p[SPH_RED_INTERNAL];
+        for (int a = 0; a < 3; ++a) {
+            out->probe_displacement[a] += p[SPH_RED_PROBE_DISP_X + a];
+            out->momentum[a] += p[SPH_RED_MOMENTUM_X + a];
+        }
+    }
+    out->bad_id = bad < (double)s->n ? (long)bad : -1;
+    for (int a = 0; a < 3; ++a)
+        out->probe_displacement[a] /= s->probe_count > 0 ? s->probe_count : 1;
+    /* 2-D sums are per metre of thickness */
+    out->load_power *= s->thickness_scale;
+    out->kinetic *= s->thickness_scale;
+    out->internal *= s->thickness_scale;
+    for (int a = 0; a < 3; ++a)
+        out->momentum[a] *= s->thickness_scale;
+}
+
+void solver_reduce(struct solver *s, const double load[3], struct reduction *out)
+{
+    cl_mem *f = s->field;
+    struct real4_arg a_load;
+    SET_ARGS(s->k.reduce, MEM(f[FIELD_POS]), MEM(f[FIELD_POS_AT_SORT]), MEM(f[FIELD_DISPLACEMENT]),
+             MEM(f[FIELD_VEL]), MEM(f[FIELD_MASS]), MEM(f[FIELD_ENERGY]), MEM(f[FIELD_RHO]),
+             MEM(f[FIELD_FLAGS]), MEM(f[FIELD_MATERIAL]), MEM(f[FIELD_ID]), MEM(s->materials),
+             MEM(s->run_params), real4_value(s, &a_load, load), MEM(s->partials), INT(s->n));
+    launch(s, s->k.reduce, (size_t)s->reduce_groups * REDUCE_GROUP_SIZE, REDUCE_GROUP_SIZE);
+    const size_t count = (size_t)s->reduce_groups * SPH_RED_SLOTS;
+    double values[64 * SPH_RED_SLOTS];
+    if (s->double_precision)
+        CL_CHECK(clEnqueueReadBuffer(s->dev->queue, s->partials, CL_TRUE, 0, count * sizeof(double),
+                                     values, 0, NULL, NULL));
+    else {
+        float tmp[64 * SPH_RED_SLOTS];
+        CL_CHECK(clEnqueueReadBuffer(s->dev->queue, s->partials, CL_TRUE, 0, count * sizeof(float),
+                                     tmp, 0, NULL, NULL));
+        for (size_t k = 0; k < count; ++k)
+            values[k] = tmp[k];
+    }
+    combine_partials(s, values, out);
+}
+
+void solver_neighbour_counts(struct solver *s, int *count_by_id)
+{
+    const cl_int4 dims = {{s->grid.dims[0], s->grid.dims[1], s->grid.dims[2], 0}};
+    SET_ARGS(s->k.neighbour_count, MEM(s->field[FIELD_POS]), GRID_ARG_LIST(s, dims),
+             MEM(s->run_params), MEM(s->spare[ELEM_INT]), INT(s->n));
+    launch(s, s->k.neighbour_count, (size_t)s->n, 0);
+    int *count = malloc(sizeof(int) * (size_t)s->n), *id = malloc(sizeof(int) * (size_t)s->n);
+    CL_CHECK(clEnqueueReadBuffer(s->dev->queue, s->spare[ELEM_INT], CL_TRUE, 0,
+                                 sizeof(int) * (size_t)s->n, count, 0, NULL, NULL));
+    CL_CHECK(clEnqueueReadBuffer(s->dev->queue, s->field[FIELD_ID], CL_TRUE, 0,
+                                 sizeof(int) * (size_t)s->n, id, 0, NULL, NULL));
+    for (int k = 0; k < s->n; ++k)
+        count_by_id[id[k]] = count[k];
+    free(count);
+    free(id);
+}

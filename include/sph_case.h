@@ -1,0 +1,144 @@
+/*
+ * A validated case: what a case file (YAML) says, with every default filled
+ * in, in SI units. Produced by case_load(); read by the scene builder, the
+ * device layer and the run loop.
+ */
+#ifndef SPH_CASE_H
+#define SPH_CASE_H
+
+#include <stdio.h>
+
+#include "sph_shared.h"
+
+#define SPH_NAME_MAX 64
+#define SPH_PATH_MAX 1024
+#define SPH_MAX_MATERIALS 8
+#define SPH_MAX_BODIES 16
+#define SPH_MAX_SETS 64
+#define SPH_ERROR_MAX 1024
+
+enum sph_plane_mode { SPH_PLANE_STRESS = 0, SPH_PLANE_STRAIN = 1 };
+
+enum sph_load_law {
+    SPH_LOAD_CONSTANT = 0,       /* F(t) = F */
+    SPH_LOAD_LINEAR_RAMP = 1,    /* F t / t_ramp until t_ramp, then F */
+    SPH_LOAD_QUADRATIC_RAMP = 2, /* F (t / t_ramp)^2 until t_ramp, then F */
+};
+
+enum sph_shape { SPH_SHAPE_BOX = 0 };
+
+enum sph_probe_quantity {
+    SPH_PROBE_DISPLACEMENT_X = 0,
+    SPH_PROBE_DISPLACEMENT_Y = 1,
+    SPH_PROBE_DISPLACEMENT_Z = 2
+};
+
+struct case_material {
+    char name[SPH_NAME_MAX];
+    double density;                  /* kg/m^3, > 0, required */
+    double youngs_modulus;           /* Pa, > 0, required */
+    double poisson_ratio;            /* (-1, 0.5), required */
+    enum sph_eos_type eos;           /* "linear" (default) */
+    enum sph_strength_type strength; /* "elastic" (default) */
+    double yield_stress;             /* Pa, required unless strength is elastic */
+};
+
+/* A region: an axis-aligned box [min, max] (m). In 2-D the z entries are 0. */
+struct case_box {
+    double min[3];
+    double max[3];
+};
+
+struct case_load {
+    int enabled;
+    double force[3];       /* total force on the group, N; divided evenly */
+    enum sph_load_law law; /* default constant */
+    double ramp_time;      /* s, > 0 for ramps */
+};
+
+struct case_body {
+    char name[SPH_NAME_MAX];
+    int material;         /* index into case.materials */
+    enum sph_shape shape; /* "box" */
+    struct case_box box;  /* the shape's extent; filled on a lattice of numerics.dx */
+    int fixed;            /* every particle of the body has zero velocity */
+    double velocity[3];   /* initial velocity, m/s, default 0 */
+};
+
+/* A named group of particles: those of `body` (or any body if body < 0)
+ * whose initial position lies inside `region`. */
+struct case_group {
+    char name[SPH_NAME_MAX];
+    int body;
+    struct case_box region;
+    int fixed;
+    struct case_load load;
+};
+
+struct case_numerics {
+    double dx;                   /* lattice spacing, m, required */
+    enum sph_kernel_type kernel; /* default wendland_c2 */
+    double h_over_dx;            /* default 1.2 */
+    double av_alpha, av_beta;    /* default 0.1, 0.1 */
+    double as_epsilon;           /* default 0 (off) */
+    int as_exponent;             /* default 4 */
+    double xsph_epsilon;         /* default 0 (off) */
+    int csph;                    /* default 0 */
+    double cfl;                  /* default 0.3 */
+    double end_time;             /* s, required */
+    double damping;              /* 1/s, default 0 */
+    int double_precision;        /* default 0 */
+};
+
+struct case_output {
+    double snapshot_interval; /* s; default end_time / 20 */
+    double history_interval;  /* s; default end_time / 1000 */
+};
+
+struct case_probe {
+    char name[SPH_NAME_MAX]; /* column name in history.csv */
+    int group;               /* index into case.groups */
+    enum sph_probe_quantity quantity;
+};
+
+/* What the summary compares the probe to. */
+struct case_reference {
+    int enabled;
+    double value;     /* the reference value of the probe, m */
+    double window[2]; /* time window (s) over which the mean is taken */
+    char source[SPH_NAME_MAX * 2];
+};
+
+struct sph_case {
+    char path[SPH_PATH_MAX];
+    char name[SPH_NAME_MAX];
+    int dimension;             /* 2 or 3 */
+    enum sph_plane_mode plane; /* 2-D only; default stress */
+    double thickness;          /* 2-D out-of-plane thickness, m; default 1 */
+    int material_count;
+    struct case_material materials[SPH_MAX_MATERIALS];
+    int body_count;
+    struct case_body bodies[SPH_MAX_BODIES];
+    int group_count;
+    struct case_group groups[SPH_MAX_BODIES];
+    struct case_numerics numerics;
+    struct case_output output;
+    int has_probe;
+    struct case_probe probe;
+    struct case_reference reference;
+};
+
+/* Loads and validates `path`, then applies `set_count` overrides of the form
+ * "key.path=value" (e.g. "numerics.dx=0.5e-3", "materials.0.density=7850",
+ * "bodies.beam.max=[0.1, 0.005]"). On failure returns non-zero and writes one
+ * sentence into `error` naming the file, the line and what was expected. */
+int case_load(const char *path, int set_count, char *const *sets, struct sph_case *out, char *error,
+              size_t error_size);
+
+/* Writes the resolved case (every default filled in) as YAML that case_load
+ * accepts. */
+int case_write_resolved(const struct sph_case *c, FILE *f);
+
+const char *case_kernel_name(enum sph_kernel_type k);
+
+#endif /* SPH_CASE_H */

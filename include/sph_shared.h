@@ -1,0 +1,112 @@
+/*
+ * Layouts shared by the host (C11) and the device (OpenCL C 1.2).
+ *
+ * This header is the one source of truth for every struct and enum that
+ * crosses the host/device boundary. It compiles both ways: the host sees
+ * cl_* types, the device sees the native ones. Every struct holds only
+ * 4-byte (float build) or 8-byte (double build) scalars and int, so host
+ * and device layouts agree without packing pragmas.
+ */
+#ifndef SPH_SHARED_H
+#define SPH_SHARED_H
+
+#ifdef __OPENCL_VERSION__
+#ifdef SPH_DOUBLE
+#pragma OPENCL EXTENSION cl_khr_fp64 : enable
+typedef double real;
+#else
+typedef float real;
+#endif
+typedef int sph_int;
+#else
+#include <CL/cl.h>
+#ifdef SPH_DOUBLE
+typedef cl_double real;
+#else
+typedef cl_float real;
+#endif
+typedef cl_int sph_int;
+#endif
+
+/* Smoothing kernels (thesis Fig. 3.1, REFERENCES.md 4). Values are the -D
+ * SPH_KERNEL numbers the program is built with. */
+enum sph_kernel_type {
+    SPH_KERNEL_CUBIC_SPLINE = 0,
+    SPH_KERNEL_GAUSSIAN = 1,
+    SPH_KERNEL_QUINTIC_SPLINE = 2,
+    SPH_KERNEL_WENDLAND_C2 = 3,
+    SPH_KERNEL_DOUBLE_COSINE = 4,
+    SPH_KERNEL_HYPERBOLIC = 5,
+    SPH_KERNEL_COUNT = 6
+};
+
+enum sph_eos_type { SPH_EOS_LINEAR = 0, SPH_EOS_MIE_GRUNEISEN = 1, SPH_EOS_POLYNOMIAL = 2 };
+
+enum sph_strength_type {
+    SPH_STRENGTH_ELASTIC = 0,
+    SPH_STRENGTH_PERFECTLY_PLASTIC = 1,
+    SPH_STRENGTH_JOHNSON_COOK = 2
+};
+
+/* Per-particle flag bits (the `flags` buffer). */
+enum sph_flag {
+    SPH_FLAG_FIXED = 1,   /* velocity held at zero: clamps */
+    SPH_FLAG_LOADED = 2,  /* carries the time-law external force */
+    SPH_FLAG_PROBE = 4,   /* member of the probe group (mean displacement) */
+    SPH_FLAG_DAMAGED = 8, /* failed: no deviatoric stress, no tension */
+    SPH_FLAG_BAD = 16     /* NaN or runaway velocity seen here */
+};
+
+/* Material constants, SI units, one entry per material, indexed by the
+ * particle's material id. */
+struct sph_material {
+    real density;         /* rho0, kg/m^3 */
+    real bulk_modulus;    /* K, Pa: linear EOS p = K (rho/rho0 - 1) */
+    real shear_modulus;   /* G, Pa */
+    real sound_speed;     /* longitudinal wave speed sqrt((K + 4G/3)/rho0), m/s */
+    real yield_stress;    /* sigma_y or Johnson-Cook A, Pa */
+    real hardening_b;     /* Johnson-Cook B, Pa */
+    real hardening_n;     /* Johnson-Cook n */
+    real plane_stress_nu; /* nu/(1 - nu): eps_zz rate factor in plane stress */
+    sph_int eos;          /* enum sph_eos_type */
+    sph_int strength;     /* enum sph_strength_type */
+    sph_int pad0, pad1;
+};
+
+/* Run constants that do not change during a run. */
+struct sph_run_params {
+    real h;              /* smoothing length, m */
+    real support;        /* kernel support radius kappa h, m */
+    real av_alpha;       /* Monaghan artificial viscosity alpha */
+    real av_beta;        /* Monaghan artificial viscosity beta */
+    real as_epsilon;     /* Monaghan-Gray artificial stress epsilon */
+    real as_inv_w_dx;    /* 1 / W(dx, h): normalises f_ij = W(r)/W(dx) */
+    real xsph_epsilon;   /* XSPH velocity smoothing factor */
+    real damping;        /* velocity damping for quasi-static runs, 1/s */
+    real thickness;      /* out-of-plane thickness in 2-D, m */
+    real velocity_limit; /* |v| above this marks a particle bad, m/s */
+    sph_int as_exponent; /* n in f_ij^n */
+    sph_int material_count;
+};
+
+/* Per-work-group partial results of the per-step reduction. The host sums
+ * the partials in double. */
+enum sph_reduce_slot {
+    SPH_RED_MAX_SIGNAL = 0,   /* max (c + |v|), m/s */
+    SPH_RED_MAX_SPEED = 1,    /* max |v|, m/s */
+    SPH_RED_MAX_MOVED = 2,    /* max displacement since last grid sort, m */
+    SPH_RED_BAD_INDEX = 3,    /* smallest original id of a bad particle, or -1 */
+    SPH_RED_LOAD_POWER = 4,   /* sum f_ext . v over loaded particles, W (per m in 2-D) */
+    SPH_RED_KINETIC = 5,      /* sum m v^2 / 2, J */
+    SPH_RED_INTERNAL = 6,     /* sum m e, J */
+    SPH_RED_PROBE_DISP_X = 7, /* sum of probe displacement x, m */
+    SPH_RED_PROBE_DISP_Y = 8,
+    SPH_RED_PROBE_DISP_Z = 9,
+    SPH_RED_PROBE_COUNT = 10,
+    SPH_RED_MOMENTUM_X = 11, /* sum m v, kg m/s */
+    SPH_RED_MOMENTUM_Y = 12,
+    SPH_RED_MOMENTUM_Z = 13,
+    SPH_RED_SLOTS = 16
+};
+
+#endif /* SPH_SHARED_H */

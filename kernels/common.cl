@@ -1,0 +1,179 @@
+/*
+ * Types, tensor storage and the one neighbour loop every pass uses.
+ *
+ * Build options (set by host/device.c from the case):
+ *   SPH_DIM 2|3, SPH_KERNEL 0..5 (enum sph_kernel_type), SPH_PLANE_STRESS,
+ *   SPH_CSPH, SPH_ARTIFICIAL_STRESS, SPH_XSPH, SPH_PLASTICITY, SPH_DOUBLE.
+ *
+ * Storage: positions and velocities are real2 (2-D) or real4 with w = 0
+ * (3-D). Symmetric tensors (deviatoric stress, artificial stress) are real4
+ * (xx, yy, zz, xy) in 2-D, real8 (xx, yy, zz, xy, xz, yz, 0, 0) in 3-D; zz is
+ * kept in 2-D for plane stress / plane strain. Full tensors (velocity
+ * gradient L[a][b] = dv_a/dx_b, CSPH correction) are real4 (xx, xy, yx, yy)
+ * in 2-D and real16 (row-major, 9 used) in 3-D. Inside kernels every tensor
+ * is a real[3][3] so the physics is written once.
+ */
+#ifndef SPH_DIM
+#error "SPH_DIM must be defined (2 or 3)"
+#endif
+#ifndef SPH_KERNEL
+#error "SPH_KERNEL must be defined (enum sph_kernel_type)"
+#endif
+
+#ifdef SPH_DOUBLE
+typedef double2 real2;
+typedef double4 real4;
+typedef double8 real8;
+typedef double16 real16;
+#else
+typedef float2 real2;
+typedef float4 real4;
+typedef float8 real8;
+typedef float16 real16;
+#endif
+
+#if SPH_DIM == 2
+typedef real2 vec;
+typedef real4 symt;
+typedef real4 fullt;
+#define VEC_ZERO ((vec)(0, 0))
+#elif SPH_DIM == 3
+typedef real4 vec;
+typedef real8 symt;
+typedef real16 fullt;
+#define VEC_ZERO ((vec)(0, 0, 0, 0))
+#else
+#error "SPH_DIM must be 2 or 3"
+#endif
+
+static inline real vec_get(vec v, int a)
+{
+#if SPH_DIM == 2
+    return a == 0 ? v.x : a == 1 ? v.y : (real)0;
+#else
+    return a == 0 ? v.x : a == 1 ? v.y : v.z;
+#endif
+}
+
+static inline vec vec_make(real x, real y, real z)
+{
+#if SPH_DIM == 2
+    (void)z;
+    return (vec)(x, y);
+#else
+    return (vec)(x, y, z, 0);
+#endif
+}
+
+static inline void symt_load(symt s, real t[3][3])
+{
+#if SPH_DIM == 2
+    t[0][0] = s.s0; t[1][1] = s.s1; t[2][2] = s.s2;
+    t[0][1] = t[1][0] = s.s3;
+    t[0][2] = t[2][0] = t[1][2] = t[2][1] = 0;
+#else
+    t[0][0] = s.s0; t[1][1] = s.s1; t[2][2] = s.s2;
+    t[0][1] = t[1][0] = s.s3;
+    t[0][2] = t[2][0] = s.s4;
+    t[1][2] = t[2][1] = s.s5;
+#endif
+}
+
+static inline symt symt_store(real t[3][3])
+{
+#if SPH_DIM == 2
+    return (symt)(t[0][0], t[1][1], t[2][2], t[0][1]);
+#else
+    return (symt)(t[0][0], t[1][1], t[2][2], t[0][1], t[0][2], t[1][2], 0, 0);
+#endif
+}
+
+static inline void fullt_load(fullt f, real t[3][3])
+{
+    for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b)
+            t[a][b] = 0;
+#if SPH_DIM == 2
+    t[0][0] = f.s0; t[0][1] = f.s1; t[1][0] = f.s2; t[1][1] = f.s3;
+#else
+    t[0][0] = f.s0; t[0][1] = f.s1; t[0][2] = f.s2;
+    t[1][0] = f.s3; t[1][1] = f.s4; t[1][2] = f.s5;
+    t[2][0] = f.s6; t[2][1] = f.s7; t[2][2] = f.s8;
+#endif
+}
+
+static inline fullt fullt_store(real t[3][3])
+{
+#if SPH_DIM == 2
+    return (fullt)(t[0][0], t[0][1], t[1][0], t[1][1]);
+#else
+    return (fullt)(t[0][0], t[0][1], t[0][2], t[1][0], t[1][1], t[1][2], t[2][0], t[2][1],
+                   t[2][2], 0, 0, 0, 0, 0, 0, 0);
+#endif
+}
+
+/* The neighbour grid as the passes see it: cells of edge `cell_size` from
+ * `origin`, `dims` cells per axis, particles sorted by cell, and each
+ * particle's cell (from its position at the last sort) in the high half of
+ * its sort key. Cells are at least support * (1 + skin) wide and the grid is
+ * re-sorted before any particle moves skin * support / 2, so every neighbour
+ * within the support lies in the 3^d cells around the sort-time cell. */
+#define GRID_ARGS                                                                                 \
+    __global const ulong *restrict sort_keys, __global const int *restrict cell_start,            \
+        __global const int *restrict cell_end, const int4 grid_dims
+
+static inline int4 grid_cell_coords(int cell, int4 dims)
+{
+    int4 c;
+    c.x = cell % dims.x;
+    c.y = (cell / dims.x) % dims.y;
+    c.z = cell / (dims.x * dims.y);
+    c.w = 0;
+    return c;
+}
+
+#if SPH_DIM == 2
+#define GRID_DZ 0
+#else
+#define GRID_DZ 1
+#endif
+
+/* FOR_EACH_NEIGHBOUR(i, j) { ... } END_FOR_EACH_NEIGHBOUR visits every j in
+ * the 3^d cells around i's cell, including i itself; the body tests the
+ * distance against the support. */
+#define FOR_EACH_NEIGHBOUR(i, j)                                                                  \
+    {                                                                                             \
+        const int4 home_ = grid_cell_coords((int)(sort_keys[i] >> 32), grid_dims);                \
+        for (int dz_ = -GRID_DZ; dz_ <= GRID_DZ; ++dz_) {                                         \
+            const int cz_ = home_.z + dz_;                                                        \
+            if (cz_ < 0 || cz_ >= grid_dims.z)                                                    \
+                continue;                                                                         \
+            for (int dy_ = -1; dy_ <= 1; ++dy_) {                                                 \
+                const int cy_ = home_.y + dy_;                                                    \
+                if (cy_ < 0 || cy_ >= grid_dims.y)                                                \
+                    continue;                                                                     \
+                const int row_ = (cz_ * grid_dims.y + cy_) * grid_dims.x;                         \
+                const int x0_ = max(home_.x - 1, 0), x1_ = min(home_.x + 1, grid_dims.x - 1);     \
+                /* cells x0..x1 of one row are contiguous in the sorted order */                  \
+                int first_ = -1, last_ = -1;                                                      \
+                for (int cx_ = x0_; cx_ <= x1_; ++cx_) {                                          \
+                    const int s_ = cell_start[row_ + cx_];                                        \
+                    if (s_ < 0)                                                                   \
+                        continue;                                                                 \
+                    if (first_ < 0)                                                               \
+                        first_ = s_;                                                              \
+                    last_ = cell_end[row_ + cx_];                                                 \
+                }                                                                                 \
+                for (int j = first_; j < last_; ++j) {
+
+#define END_FOR_EACH_NEIGHBOUR                                                                    \
+    }                                                                                             \
+    }                                                                                             \
+    }                                                                                             \
+    }
+
+/* Work-group size of the reduction kernels (grid bounds, per-step reduce). */
+#define REDUCE_WG 64
+
+static inline real kernel_w(real r, real h) { return sph_kernel_value(SPH_KERNEL, SPH_DIM, r, h); }
+static inline real kernel_dwdr(real r, real h) { return sph_kernel_dwdr(SPH_KERNEL, SPH_DIM, r, h); }

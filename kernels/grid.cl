@@ -1,0 +1,157 @@
+/*
+ * Neighbour grid: cell keys, a bitonic sort of (cell, index) keys on the
+ * device, cell ranges, and the gather that reorders particle fields.
+ *
+ * Keys are (cell << 32) | original slot, so the sort is a total order and
+ * the result is deterministic (no atomics).
+ */
+
+/* reads pos; writes sort_keys (padded to a power of two with ~0). */
+__kernel void grid_cell_keys(__global const vec *restrict pos, __global ulong *restrict sort_keys,
+                             const int n, const int padded_n, const real4 origin,
+                             const real inv_cell_size, const int4 grid_dims)
+{
+    const int i = get_global_id(0);
+    if (i >= padded_n)
+        return;
+    if (i >= n) {
+        sort_keys[i] = ~(ulong)0;
+        return;
+    }
+    const vec p = pos[i];
+    int cx = (int)floor((p.x - origin.x) * inv_cell_size);
+    int cy = (int)floor((p.y - origin.y) * inv_cell_size);
+#if SPH_DIM == 3
+    int cz = (int)floor((p.z - origin.z) * inv_cell_size);
+#else
+    int cz = 0;
+#endif
+    /* the host sizes the grid to contain every particle; clamping only guards
+     * against rounding at the upper faces */
+    cx = clamp(cx, 0, grid_dims.x - 1);
+    cy = clamp(cy, 0, grid_dims.y - 1);
+    cz = clamp(cz, 0, grid_dims.z - 1);
+    const uint cell = (uint)((cz * grid_dims.y + cy) * grid_dims.x + cx);
+    sort_keys[i] = ((ulong)cell << 32) | (ulong)(uint)i;
+}
+
+/* Bounding box of the particles: each work-group writes (min x, min y,
+ * min z, max x, max y, max z) for the host to combine. reads pos. */
+__kernel __attribute__((reqd_work_group_size(REDUCE_WG, 1, 1))) void
+grid_bounds(__global const vec *restrict pos, __global real *restrict partials, const int n)
+{
+    __local real lo[REDUCE_WG][3], hi[REDUCE_WG][3];
+    const int lid = get_local_id(0);
+    real mn[3] = {INFINITY, INFINITY, INFINITY}, mx[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int i = get_global_id(0); i < n; i += get_global_size(0))
+        for (int a = 0; a < SPH_DIM; ++a) {
+            const real x = vec_get(pos[i], a);
+            mn[a] = fmin(mn[a], x);
+            mx[a] = fmax(mx[a], x);
+        }
+    for (int a = 0; a < 3; ++a) {
+        lo[lid][a] = mn[a];
+        hi[lid][a] = mx[a];
+    }
+    barrier(CLK_LOCAL_MEM_FENCE);
+    for (int stride = REDUCE_WG / 2; stride > 0; stride >>= 1) {
+        if (lid < stride)
+            for (int a = 0; a < 3; ++a) {
+                lo[lid][a] = fmin(lo[lid][a], lo[lid + stride][a]);
+                hi[lid][a] = fmax(hi[lid][a], hi[lid + stride][a]);
+            }
+        barrier(CLK_LOCAL_MEM_FENCE);
+    }
+    if (lid == 0)
+        for (int a = 0; a < 3; ++a) {
+            partials[get_group_id(0) * 6 + a] = lo[0][a];
+            partials[get_group_id(0) * 6 + 3 + a] = hi[0][a];
+        }
+}
+
+/* One compare-exchange stage (k, j) of a bitonic sort, ascending. */
+__kernel void grid_bitonic_step(__global ulong *restrict keys, const uint j, const uint k)
+{
+    const uint i = get_global_id(0);
+    const uint partner = i ^ j;
+    if (partner <= i)
+        return;
+    const ulong a = keys[i], b = keys[partner];
+    const bool ascending = (i & k) == 0;
+    if ((a > b) == ascending) {
+        keys[i] = b;
+        keys[partner] = a;
+    }
+}
+
+__kernel void grid_fill_int(__global int *restrict a, const int value, const int n)
+{
+    const int i = get_global_id(0);
+    if (i < n)
+        a[i] = value;
+}
+
+/* reads sort_keys (sorted); writes cell_start, cell_end (cleared to -1). */
+__kernel void grid_cell_ranges(__global const ulong *restrict sort_keys,
+                               __global int *restrict cell_start, __global int *restrict cell_end,
+                               const int n)
+{
+    const int i = get_global_id(0);
+    if (i >= n)
+        return;
+    const int cell = (int)(sort_keys[i] >> 32);
+    if (i == 0 || (int)(sort_keys[i - 1] >> 32) != cell)
+        cell_start[cell] = i;
+    if (i == n - 1 || (int)(sort_keys[i + 1] >> 32) != cell)
+        cell_end[cell] = i + 1;
+}
+
+/* Gathers one field into sorted order: out[i] = in[slot of sorted key i].
+ * After the gather the host swaps the buffers; the key's low half is then
+ * rewritten to i so the keys stay valid for the sorted layout. */
+#define GRID_GATHER(NAME, TYPE)                                                                   \
+    __kernel void NAME(__global const ulong *restrict sort_keys, __global const TYPE *restrict in, \
+                       __global TYPE *restrict out, const int n)                                  \
+    {                                                                                             \
+        const int i = get_global_id(0);                                                           \
+        if (i < n)                                                                                \
+            out[i] = in[(int)(sort_keys[i] & 0xffffffffu)];                                       \
+    }
+GRID_GATHER(grid_gather_real, real)
+GRID_GATHER(grid_gather_int, int)
+GRID_GATHER(grid_gather_vec, vec)
+GRID_GATHER(grid_gather_symt, symt)
+
+/* reads pos; writes pos_at_sort (the reference for "moved since sort"). */
+__kernel void grid_mark_sorted(__global const vec *restrict pos, __global vec *restrict pos_at_sort,
+                               const int n)
+{
+    const int i = get_global_id(0);
+    if (i < n)
+        pos_at_sort[i] = pos[i];
+}
+
+/* Test hook: for each particle, the original ids of its neighbours within
+ * `radius` (excluding itself), through the same neighbour loop the passes
+ * use. reads pos, id; writes count, list (max_list per particle). */
+__kernel void grid_neighbour_list(__global const vec *restrict pos, __global const int *restrict id,
+                                  GRID_ARGS, const real radius, __global int *restrict count,
+                                  __global int *restrict list, const int max_list, const int n)
+{
+    const int i = get_global_id(0);
+    if (i >= n)
+        return;
+    const vec pi = pos[i];
+    int c = 0;
+    FOR_EACH_NEIGHBOUR(i, j)
+    {
+        const vec d = pi - pos[j];
+        if (j != i && dot(d, d) < radius * radius) {
+            if (c < max_list)
+                list[i * max_list + c] = id[j];
+            ++c;
+        }
+    }
+    END_FOR_EACH_NEIGHBOUR
+    count[i] = c;
+}

@@ -1,0 +1,116 @@
+/*
+ * Pass 1: velocity gradient, density rate and (with SPH_CSPH) the kernel
+ * gradient correction.
+ *
+ * L_i = sum_j V_j (v_j - v_i) (x) grad_i W_ij, V_j = m_j / rho_j. With CSPH
+ * (thesis eqs. 3.10-3.11; Chen et al. 1999, Bonet & Lok 1999) the gradient is
+ * corrected so that a linear velocity field is differentiated exactly:
+ * B_i = sum_j V_j (x_j - x_i) (x) grad_i W_ij, corrected gradient C_i^T grad W
+ * with C_i = B_i^-1, hence L_i <- L_i C_i (one pass suffices because L is
+ * linear in the gradient).
+ * Density: continuity, drho_i/dt = -rho_i tr(L_i) (plus the out-of-plane
+ * strain rate in plane stress).
+ *
+ * reads: pos, vel, rho, mass, material; writes: velocity_gradient, density_rate, csph.
+ */
+
+#ifdef SPH_CSPH
+/* Inverse of B (dim x dim); falls back to the identity when B is nearly
+ * singular (isolated particles, a line of particles). */
+static inline void csph_invert(real b[3][3], real c[3][3])
+{
+    for (int a = 0; a < 3; ++a)
+        for (int e = 0; e < 3; ++e)
+            c[a][e] = a == e ? (real)1 : (real)0;
+#if SPH_DIM == 2
+    const real det = b[0][0] * b[1][1] - b[0][1] * b[1][0];
+    if (fabs(det) < (real)1e-3)
+        return;
+    c[0][0] = b[1][1] / det;
+    c[0][1] = -b[0][1] / det;
+    c[1][0] = -b[1][0] / det;
+    c[1][1] = b[0][0] / det;
+#else
+    const real det = b[0][0] * (b[1][1] * b[2][2] - b[1][2] * b[2][1]) -
+                     b[0][1] * (b[1][0] * b[2][2] - b[1][2] * b[2][0]) +
+                     b[0][2] * (b[1][0] * b[2][1] - b[1][1] * b[2][0]);
+    if (fabs(det) < (real)1e-4)
+        return;
+    const real inv = (real)1 / det;
+    c[0][0] = (b[1][1] * b[2][2] - b[1][2] * b[2][1]) * inv;
+    c[0][1] = (b[0][2] * b[2][1] - b[0][1] * b[2][2]) * inv;
+    c[0][2] = (b[0][1] * b[1][2] - b[0][2] * b[1][1]) * inv;
+    c[1][0] = (b[1][2] * b[2][0] - b[1][0] * b[2][2]) * inv;
+    c[1][1] = (b[0][0] * b[2][2] - b[0][2] * b[2][0]) * inv;
+    c[1][2] = (b[0][2] * b[1][0] - b[0][0] * b[1][2]) * inv;
+    c[2][0] = (b[1][0] * b[2][1] - b[1][1] * b[2][0]) * inv;
+    c[2][1] = (b[0][1] * b[2][0] - b[0][0] * b[2][1]) * inv;
+    c[2][2] = (b[0][0] * b[1][1] - b[0][1] * b[1][0]) * inv;
+#endif
+}
+#endif
+
+__kernel void pass1_velocity_gradient(__global const vec *restrict pos,
+                                      __global const vec *restrict vel,
+                                      __global const real *restrict rho,
+                                      __global const real *restrict mass,
+                                      __global const int *restrict material, GRID_ARGS,
+                                      __constant const struct sph_material *materials,
+                                      __constant const struct sph_run_params *run,
+                                      __global fullt *restrict velocity_gradient,
+                                      __global real *restrict density_rate,
+                                      __global fullt *restrict csph, const int n)
+{
+    const int i = get_global_id(0);
+    if (i >= n)
+        return;
+    const real h = run->h;
+    const real support2 = run->support * run->support;
+    const vec xi = pos[i], vi = vel[i];
+    real grad_v[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
+#ifdef SPH_CSPH
+    real moment[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
+#endif
+    FOR_EACH_NEIGHBOUR(i, j)
+    {
+        const vec xij = xi - pos[j];
+        const real r2 = dot(xij, xij);
+        if (j != i && r2 < support2) {
+            const real r = sqrt(r2);
+            const real volume = mass[j] / rho[j];
+            const vec grad = (kernel_dwdr(r, h) / r) * xij; /* grad_i W_ij */
+            const vec vji = vel[j] - vi;
+            for (int a = 0; a < SPH_DIM; ++a)
+                for (int b = 0; b < SPH_DIM; ++b) {
+                    grad_v[a][b] += volume * vec_get(vji, a) * vec_get(grad, b);
+#ifdef SPH_CSPH
+                    moment[a][b] -= volume * vec_get(xij, a) * vec_get(grad, b);
+#endif
+                }
+        }
+    }
+    END_FOR_EACH_NEIGHBOUR
+#ifdef SPH_CSPH
+    real c[3][3], corrected[3][3];
+    csph_invert(moment, c);
+    for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b) {
+            corrected[a][b] = 0;
+            for (int e = 0; e < SPH_DIM; ++e)
+                corrected[a][b] += grad_v[a][e] * c[e][b];
+        }
+    for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b)
+            grad_v[a][b] = corrected[a][b];
+    csph[i] = fullt_store(c);
+#else
+    (void)csph;
+#endif
+    real divergence = grad_v[0][0] + grad_v[1][1] + grad_v[2][2];
+#ifdef SPH_PLANE_STRESS
+    /* sigma_zz = 0 needs eps_zz rate = -nu/(1-nu) (eps_xx + eps_yy) (Hooke) */
+    divergence *= (real)1 - materials[material[i]].plane_stress_nu;
+#endif
+    velocity_gradient[i] = fullt_store(grad_v);
+    density_rate[i] = -rho[i] * divergence;
+}

@@ -1,0 +1,148 @@
+/*
+ * Pass 2: acceleration, internal energy rate and XSPH velocity.
+ *
+ * Momentum (thesis eq. 3.17; Gray, Monaghan & Swift 2001 eq. 28), with
+ * sigma = -p I + S and the kernel gradient g = grad_i W_ij:
+ *   dv_i/dt = sum_j m_j [ sigma_i/rho_i^2 . g_i + sigma_j/rho_j^2 . g_j
+ *                         + (f_ij^n (R_i + R_j) - Pi_ij I) . g ]
+ * where g_i = g_j = g in plain SPH, and with CSPH g_i = C_i^T g,
+ * g_j = C_j^T g (Bonet & Lok 1999): the pair terms stay antisymmetric, so
+ * linear momentum is conserved, and the force is the one whose work equals
+ * the stress power computed from pass 1's corrected velocity gradient.
+ * Energy, the matching exchange that conserves total energy:
+ *   de_i/dt = -sum_j m_j (v_i - v_j) . [ sigma_i/rho_i^2 . g_i
+ *                                        + (f^n (R_i + R_j) - Pi I) . g / 2 ]
+ * Pi_ij: Monaghan artificial viscosity (Monaghan 1992 eq. 4.1).
+ * f_ij = W(r_ij) / W(dx): Monaghan (2000) artificial stress weight.
+ * XSPH (Monaghan 1989): v^_i = v_i + eps sum_j m_j / rho_ij (v_j - v_i) W_ij.
+ *
+ * reads: pos, vel, rho, mass, pressure, deviatoric_stress,
+ *        artificial_stress, csph, material;
+ * writes: acceleration, energy_rate, xsph_velocity.
+ */
+static inline void total_stress_over_rho2(real p, symt dev, real density, real out[3][3])
+{
+    symt_load(dev, out);
+    const real inv_rho2 = (real)1 / (density * density);
+    for (int a = 0; a < 3; ++a) {
+        out[a][a] -= p;
+        for (int b = 0; b < 3; ++b)
+            out[a][b] *= inv_rho2;
+    }
+}
+
+static inline real artificial_viscosity(vec vij, vec xij, real r2, real h, real c_mean,
+                                        real rho_mean, real alpha, real beta)
+{
+    const real vr = dot(vij, xij);
+    if (vr >= 0)
+        return 0;
+    const real mu = h * vr / (r2 + (real)0.01 * h * h);
+    return (-alpha * c_mean * mu + beta * mu * mu) / rho_mean;
+}
+
+__kernel void pass2_momentum_energy(
+    __global const vec *restrict pos, __global const vec *restrict vel,
+    __global const real *restrict rho, __global const real *restrict mass,
+    __global const real *restrict pressure, __global const symt *restrict deviatoric_stress,
+    __global const symt *restrict artificial_stress, __global const fullt *restrict csph,
+    __global const int *restrict material, GRID_ARGS,
+    __constant const struct sph_material *materials,
+    __constant const struct sph_run_params *run, __global vec *restrict acceleration,
+    __global real *restrict energy_rate, __global vec *restrict xsph_velocity, const int n)
+{
+    const int i = get_global_id(0);
+    if (i >= n)
+        return;
+    const real h = run->h;
+    const real support2 = run->support * run->support;
+    const vec xi = pos[i], vi = vel[i];
+    const real rho_i = rho[i];
+    const real c_i = materials[material[i]].sound_speed;
+    real sigma_i[3][3];
+    total_stress_over_rho2(pressure[i], deviatoric_stress[i], rho_i, sigma_i);
+#ifdef SPH_ARTIFICIAL_STRESS
+    real r_i[3][3];
+    symt_load(artificial_stress[i], r_i);
+#else
+    (void)artificial_stress;
+#endif
+#ifdef SPH_CSPH
+    real c_i_t[3][3];
+    fullt_load(csph[i], c_i_t);
+#else
+    (void)csph;
+#endif
+    real acc[3] = {0, 0, 0};
+    real de = 0;
+    vec xsph = VEC_ZERO;
+    FOR_EACH_NEIGHBOUR(i, j)
+    {
+        const vec xij = xi - pos[j];
+        const real r2 = dot(xij, xij);
+        if (j != i && r2 < support2) {
+            const real r = sqrt(r2);
+            const vec vij = vi - vel[j];
+            const real rho_j = rho[j], m_j = mass[j];
+            const real rho_mean = (real)0.5 * (rho_i + rho_j);
+            const real pi_ij = artificial_viscosity(
+                vij, xij, r2, h, (real)0.5 * (c_i + materials[material[j]].sound_speed), rho_mean,
+                run->av_alpha, run->av_beta);
+            real sigma_j[3][3], extra[3][3]; /* extra: -Pi I + f^n (R_i + R_j) */
+            total_stress_over_rho2(pressure[j], deviatoric_stress[j], rho_j, sigma_j);
+            for (int a = 0; a < 3; ++a)
+                for (int b = 0; b < 3; ++b)
+                    extra[a][b] = a == b ? -pi_ij : (real)0;
+#ifdef SPH_ARTIFICIAL_STRESS
+            {
+                real r_j[3][3];
+                symt_load(artificial_stress[j], r_j);
+                const real f = kernel_w(r, h) * run->as_inv_w_dx;
+                real fn = 1;
+                for (int k = 0; k < run->as_exponent; ++k)
+                    fn *= f;
+                for (int a = 0; a < 3; ++a)
+                    for (int b = 0; b < 3; ++b)
+                        extra[a][b] += fn * (r_i[a][b] + r_j[a][b]);
+            }
+#endif
+            const real dwdr_r = kernel_dwdr(r, h) / r;
+            real grad[3] = {0, 0, 0}, g_i[3] = {0, 0, 0}, g_j[3] = {0, 0, 0};
+            for (int a = 0; a < SPH_DIM; ++a)
+                grad[a] = dwdr_r * vec_get(xij, a);
+#ifdef SPH_CSPH
+            {
+                real c_j_t[3][3];
+                fullt_load(csph[j], c_j_t);
+                for (int a = 0; a < SPH_DIM; ++a)
+                    for (int b = 0; b < SPH_DIM; ++b) {
+                        g_i[a] += c_i_t[b][a] * grad[b];
+                        g_j[a] += c_j_t[b][a] * grad[b];
+                    }
+            }
+#else
+            for (int a = 0; a < SPH_DIM; ++a)
+                g_i[a] = g_j[a] = grad[a];
+#endif
+            for (int a = 0; a < SPH_DIM; ++a) {
+                const real v_a = vec_get(vij, a);
+                for (int b = 0; b < SPH_DIM; ++b) {
+                    acc[a] += m_j * (sigma_i[a][b] * g_i[b] + sigma_j[a][b] * g_j[b] +
+                                     extra[a][b] * grad[b]);
+                    de -= m_j * v_a * (sigma_i[a][b] * g_i[b] + (real)0.5 * extra[a][b] * grad[b]);
+                }
+            }
+#ifdef SPH_XSPH
+            xsph -= (m_j / rho_mean * kernel_w(r, h)) * vij;
+#endif
+        }
+    }
+    END_FOR_EACH_NEIGHBOUR
+    acceleration[i] = vec_make(acc[0], acc[1], acc[2]);
+    energy_rate[i] = de;
+#ifdef SPH_XSPH
+    xsph_velocity[i] = run->xsph_epsilon * xsph;
+#else
+    xsph_velocity[i] = VEC_ZERO;
+#endif
+}

@@ -1,0 +1,102 @@
+/*
+ * Per-step reduction: next time step, health checks, energies, probe.
+ * Each work-group writes SPH_RED_SLOTS partials; the host combines them in
+ * double (sums add, maxima take the max, the bad index takes the min).
+ *
+ * reads: pos, pos_at_sort, displacement, vel, mass, energy, rho, flags, material, id;
+ * writes: partials.
+ */
+static inline bool slot_is_max(int slot)
+{
+    return slot == SPH_RED_MAX_SIGNAL || slot == SPH_RED_MAX_SPEED || slot == SPH_RED_MAX_MOVED;
+}
+
+__kernel __attribute__((reqd_work_group_size(REDUCE_WG, 1, 1))) void
+reduce_step(__global const vec *restrict pos, __global const vec *restrict pos_at_sort,
+            __global const vec *restrict displacement, __global const vec *restrict vel,
+            __global const real *restrict mass, __global const real *restrict energy,
+            __global const real *restrict rho, __global const int *restrict flags,
+            __global const int *restrict material, __global const int *restrict id,
+            __constant const struct sph_material *materials,
+            __constant const struct sph_run_params *run, const real4 load_force,
+            __global real *restrict partials, const int n)
+{
+    __local real acc[REDUCE_WG][SPH_RED_SLOTS];
+    const int lid = get_local_id(0);
+    real mine[SPH_RED_SLOTS];
+    for (int k = 0; k < SPH_RED_SLOTS; ++k)
+        mine[k] = 0;
+    mine[SPH_RED_BAD_INDEX] = (real)INT_MAX;
+    const vec f = vec_make(load_force.x, load_force.y, load_force.z);
+    for (int i = get_global_id(0); i < n; i += get_global_size(0)) {
+        const vec v = vel[i], x = pos[i];
+        const real speed = length(v);
+        const int flag = flags[i];
+        mine[SPH_RED_MAX_SIGNAL] = fmax(mine[SPH_RED_MAX_SIGNAL], materials[material[i]].sound_speed + speed);
+        mine[SPH_RED_MAX_SPEED] = fmax(mine[SPH_RED_MAX_SPEED], speed);
+        mine[SPH_RED_MAX_MOVED] = fmax(mine[SPH_RED_MAX_MOVED], length(x - pos_at_sort[i]));
+        const bool bad = isnan(speed) || isinf(speed) || !(speed <= run->velocity_limit) ||
+                         isnan(dot(x, x)) || isinf(dot(x, x)) || isnan(rho[i]) || isnan(energy[i]);
+        if (bad)
+            mine[SPH_RED_BAD_INDEX] = fmin(mine[SPH_RED_BAD_INDEX], (real)id[i]);
+        if (flag & SPH_FLAG_LOADED)
+            mine[SPH_RED_LOAD_POWER] += dot(f, v);
+        mine[SPH_RED_KINETIC] += (real)0.5 * mass[i] * dot(v, v);
+        mine[SPH_RED_INTERNAL] += mass[i] * energy[i];
+        if (flag & SPH_FLAG_PROBE) {
+            const vec u = displacement[i];
+            mine[SPH_RED_PROBE_DISP_X] += u.x;
+            mine[SPH_RED_PROBE_DISP_Y] += u.y;
+#if SPH_DIM == 3
+            mine[SPH_RED_PROBE_DISP_Z] += u.z;
+#endif
+            mine[SPH_RED_PROBE_COUNT] += 1;
+        }
+        mine[SPH_RED_MOMENTUM_X] += mass[i] * v.x;
+        mine[SPH_RED_MOMENTUM_Y] += mass[i] * v.y;
+#if SPH_DIM == 3
+        mine[SPH_RED_MOMENTUM_Z] += mass[i] * v.z;
+#endif
+    }
+    for (int k = 0; k < SPH_RED_SLOTS; ++k)
+        acc[lid][k] = mine[k];
+    barrier(CLK_LOCAL_MEM_FENCE);
+    for (int stride = REDUCE_WG / 2; stride > 0; stride >>= 1) {
+        if (lid < stride)
+            for (int k = 0; k < SPH_RED_SLOTS; ++k) {
+                const real other = acc[lid + stride][k];
+                if (slot_is_max(k))
+                    acc[lid][k] = fmax(acc[lid][k], other);
+                else if (k == SPH_RED_BAD_INDEX)
+                    acc[lid][k] = fmin(acc[lid][k], other);
+                else
+                    acc[lid][k] += other;
+            }
+        barrier(CLK_LOCAL_MEM_FENCE);
+    }
+    if (lid == 0)
+        for (int k = 0; k < SPH_RED_SLOTS; ++k)
+            partials[get_group_id(0) * SPH_RED_SLOTS + k] = acc[0][k];
+}
+
+/* Neighbours within the support of each particle, for the integrity measure
+ * (particles that lost more than half of their initial neighbours).
+ * reads pos; writes neighbour_count. */
+__kernel void health_neighbour_count(__global const vec *restrict pos, GRID_ARGS,
+                                     __constant const struct sph_run_params *run,
+                                     __global int *restrict neighbour_count, const int n)
+{
+    const int i = get_global_id(0);
+    if (i >= n)
+        return;
+    const vec xi = pos[i];
+    const real support2 = run->support * run->support;
+    int c = 0;
+    FOR_EACH_NEIGHBOUR(i, j)
+    {
+        const vec d = xi - pos[j];
+        c += (j != i && dot(d, d) < support2) ? 1 : 0;
+    }
+    END_FOR_EACH_NEIGHBOUR
+    neighbour_count[i] = c;
+}

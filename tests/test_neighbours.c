@@ -1,0 +1,253 @@
+/* The device neighbour search against brute force: random points, lattice
+ * points lying exactly on cell faces, and points moved after the sort (the
+ * grid skin), in 2-D and 3-D, on the default OpenCL device. */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "device.h"
+#include "scene.h"
+#include "solver.h"
+
+#define MAX_LIST 256
+
+struct fixture {
+    struct sph_device dev;
+    struct sph_case c;
+    struct sph_scene scene;
+    struct solver s;
+};
+
+static unsigned rng_state = 12345u;
+static double uniform(void)
+{
+    rng_state = rng_state * 1664525u + 1013904223u;
+    return (rng_state >> 8) / 16777216.0;
+}
+
+static void make_case(struct sph_case *c, int dim)
+{
+    memset(c, 0, sizeof *c);
+    snprintf(c->path, sizeof c->path, "test");
+    snprintf(c->name, sizeof c->name, "neighbours");
+    c->dimension = dim;
+    c->thickness = 1.0;
+    c->material_count = 1;
+    c->materials[0] =
+        (struct case_material){"m", 1000.0, 1e9, 0.3, SPH_EOS_LINEAR, SPH_STRENGTH_ELASTIC, 0.0};
+    c->numerics.dx = 1.0;
+    c->numerics.kernel = SPH_KERNEL_WENDLAND_C2;
+    c->numerics.h_over_dx = 1.2;
+    c->numerics.cfl = 0.3;
+    c->numerics.end_time = 1.0;
+}
+
+static void make_scene(struct sph_scene *s, const double *xyz, int n)
+{
+    memset(s, 0, sizeof *s);
+    s->count = n;
+    s->position = malloc(sizeof(double) * 3 * n);
+    memcpy(s->position, xyz, sizeof(double) * 3 * n);
+    s->velocity = calloc((size_t)3 * n, sizeof(double));
+    s->mass = calloc((size_t)n, sizeof(double));
+    s->density = calloc((size_t)n, sizeof(double));
+    s->material = calloc((size_t)n, sizeof(int));
+    s->flags = calloc((size_t)n, sizeof(int));
+    for (int p = 0; p < n; ++p)
+        s->mass[p] = s->density[p] = 1000.0;
+}
+
+static void setup(struct fixture *f, int dim, const double *xyz, int n)
+{
+    char error[512];
+    make_case(&f->c, dim);
+    make_scene(&f->scene, xyz, n);
+    char options[256];
+    solver_build_options(&f->c, options, sizeof options);
+    if (device_open(NULL, 0, &f->dev, error, sizeof error) ||
+        device_build(&f->dev, device_source_dir(), options, error, sizeof error) ||
+        solver_create(&f->s, &f->dev, &f->c, &f->scene, error, sizeof error) ||
+        solver_sort(&f->s, error, sizeof error))
+        fail_msg("setup: %s", error);
+}
+
+static void teardown(struct fixture *f)
+{
+    solver_release(&f->s);
+    device_close(&f->dev);
+    scene_free(&f->scene);
+}
+
+static int compare_int(const void *a, const void *b)
+{
+    return (*(const int *)a > *(const int *)b) - (*(const int *)a < *(const int *)b);
+}
+
+/* Device positions (sorted order) as floats, and the ids of that order. */
+static void read_positions(struct fixture *f, float *pos, int *id)
+{
+    const int w = f->c.dimension == 2 ? 2 : 4;
+    CL_CHECK(clEnqueueReadBuffer(f->dev.queue, f->s.field[FIELD_POS], CL_TRUE, 0,
+                                 sizeof(float) * w * f->s.n, pos, 0, NULL, NULL));
+    CL_CHECK(clEnqueueReadBuffer(f->dev.queue, f->s.field[FIELD_ID], CL_TRUE, 0,
+                                 sizeof(int) * f->s.n, id, 0, NULL, NULL));
+}
+
+/* Runs grid_neighbour_list and compares every list with brute force. */
+static void compare_with_brute_force(struct fixture *f)
+{
+    const int n = f->s.n, w = f->c.dimension == 2 ? 2 : 4;
+    const float radius = (float)f->s.run.support;
+    cl_int err = CL_SUCCESS;
+    cl_kernel k = clCreateKernel(f->dev.program, "grid_neighbour_list", &err);
+    CL_CHECK_ERR("clCreateKernel", err);
+    cl_mem count = clCreateBuffer(f->dev.context, CL_MEM_READ_WRITE, sizeof(int) * n, NULL, &err);
+    cl_mem list =
+        clCreateBuffer(f->dev.context, CL_MEM_READ_WRITE, sizeof(int) * n * MAX_LIST, NULL, &err);
+    const cl_int4 dims = {{f->s.grid.dims[0], f->s.grid.dims[1], f->s.grid.dims[2], 0}};
+    const cl_int max_list = MAX_LIST, cn = n;
+    cl_uint a = 0;
+    CL_CHECK(clSetKernelArg(k, a++, sizeof(cl_mem), &f->s.field[FIELD_POS]));
+    CL_CHECK(clSetKernelArg(k, a++, sizeof(cl_mem), &f->s.field[FIELD_ID]));
+    CL_CHECK(clSetKernelArg(k, a++, sizeof(cl_mem), &f->s.sort_keys));
+    CL_CHECK(clSetKernelArg(k, a++, sizeof(cl_mem), &f->s.cell_start));
+    CL_CHECK(clSetKernelArg(k, a++, sizeof(cl_mem), &f->s.cell_end));
+    CL_CHECK(clSetKernelArg(k, a++, sizeof dims, &dims));
+    CL_CHECK(clSetKernelArg(k, a++, sizeof radius, &radius));
+    CL_CHECK(clSetKernelArg(k, a++, sizeof(cl_mem), &count));
+    CL_CHECK(clSetKernelArg(k, a++, sizeof(cl_mem), &list));
+    CL_CHECK(clSetKernelArg(k, a++, sizeof max_list, &max_list));
+    CL_CHECK(clSetKernelArg(k, a++, sizeof cn, &cn));
+    const size_t global = (size_t)n;
+    CL_CHECK(clEnqueueNDRangeKernel(f->dev.queue, k, 1, NULL, &global, NULL, 0, NULL, NULL));
+    int *counts = malloc(sizeof(int) * n), *lists = malloc(sizeof(int) * n * MAX_LIST);
+    int *id = malloc(sizeof(int) * n), *expected = malloc(sizeof(int) * MAX_LIST);
+    float *pos = malloc(sizeof(float) * w * n);
+    CL_CHECK(clEnqueueReadBuffer(f->dev.queue, count, CL_TRUE, 0, sizeof(int) * n, counts, 0, NULL,
+                                 NULL));
+    CL_CHECK(clEnqueueReadBuffer(f->dev.queue, list, CL_TRUE, 0, sizeof(int) * n * MAX_LIST, lists,
+                                 0, NULL, NULL));
+    read_positions(f, pos, id);
+    long pairs = 0;
+    for (int i = 0; i < n; ++i) {
+        int m = 0;
+        for (int j = 0; j < n; ++j) {
+            float r2 = 0;
+            for (int d = 0; d < f->c.dimension; ++d) {
+                const float dd = pos[i * w + d] - pos[j * w + d];
+                r2 += dd * dd;
+            }
+            if (j != i && r2 < radius * radius && m < MAX_LIST)
+                expected[m++] = id[j];
+        }
+        assert_int_equal(counts[i], m);
+        qsort(expected, (size_t)m, sizeof(int), compare_int);
+        qsort(&lists[i * MAX_LIST], (size_t)m, sizeof(int), compare_int);
+        assert_memory_equal(expected, &lists[i * MAX_LIST], sizeof(int) * m);
+        pairs += m;
+    }
+    assert_true(pairs > 4L * n); /* the sets are not trivially empty */
+    free(counts), free(lists), free(id), free(expected), free(pos);
+    clReleaseMemObject(count);
+    clReleaseMemObject(list);
+    clReleaseKernel(k);
+}
+
+/* Moves every particle by up to 0.99 of half the skin without re-sorting. */
+static void jiggle(struct fixture *f)
+{
+    const int n = f->s.n, w = f->c.dimension == 2 ? 2 : 4;
+    float *pos = malloc(sizeof(float) * w * n);
+    int *id = malloc(sizeof(int) * n);
+    read_positions(f, pos, id);
+    const double reach = 0.99 * 0.5 * f->s.skin * f->s.run.support / sqrt(f->c.dimension);
+    for (int i = 0; i < n; ++i)
+        for (int d = 0; d < f->c.dimension; ++d)
+            pos[i * w + d] += (float)(reach * (2 * uniform() - 1));
+    CL_CHECK(clEnqueueWriteBuffer(f->dev.queue, f->s.field[FIELD_POS], CL_TRUE, 0,
+                                  sizeof(float) * w * n, pos, 0, NULL, NULL));
+    free(pos), free(id);
+}
+
+static void random_points(double *xyz, int n, int dim, double size)
+{
+    for (int p = 0; p < n; ++p)
+        for (int a = 0; a < 3; ++a)
+            xyz[3 * p + a] = a < dim ? size * uniform() : 0.0;
+}
+
+/* Lattice of spacing cell/2 from the particles' minimum: every other plane
+ * of points lies exactly on a cell face (the grid origin is min - cell). */
+static int face_lattice(double *xyz, int dim, double cell, int per_axis)
+{
+    int n = 0;
+    const int nz = dim == 3 ? per_axis : 1;
+    for (int k = 0; k < nz; ++k)
+        for (int j = 0; j < per_axis; ++j)
+            for (int i = 0; i < per_axis; ++i, ++n) {
+                xyz[3 * n] = i * 0.5 * cell;
+                xyz[3 * n + 1] = j * 0.5 * cell;
+                xyz[3 * n + 2] = dim == 3 ? k * 0.5 * cell : 0.0;
+            }
+    return n;
+}
+
+static void run_random(int dim, int n, double size)
+{
+    double *xyz = malloc(sizeof(double) * 3 * n);
+    random_points(xyz, n, dim, size);
+    struct fixture f;
+    setup(&f, dim, xyz, n);
+    compare_with_brute_force(&f);
+    jiggle(&f);
+    compare_with_brute_force(&f);
+    teardown(&f);
+    free(xyz);
+}
+
+static void run_faces(int dim, int per_axis)
+{
+    double *xyz = malloc(sizeof(double) * 3 * per_axis * per_axis * per_axis);
+    /* support 2.4 (Wendland, h = 1.2), skin 0.2: cell 2.88 */
+    const int n = face_lattice(xyz, dim, 2.4 * 1.2, per_axis);
+    struct fixture f;
+    setup(&f, dim, xyz, n);
+    assert_true(fabs(f.s.grid.cell_size - 2.88) < 1e-6);
+    compare_with_brute_force(&f);
+    teardown(&f);
+    free(xyz);
+}
+
+static void test_random_2d(void **state)
+{
+    (void)state, run_random(2, 3000, 60.0);
+}
+static void test_random_3d(void **state)
+{
+    (void)state, run_random(3, 3000, 14.0);
+}
+static void test_cell_faces_2d(void **state)
+{
+    (void)state, run_faces(2, 40);
+}
+static void test_cell_faces_3d(void **state)
+{
+    (void)state, run_faces(3, 14);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_random_2d),
+        cmocka_unit_test(test_random_3d),
+        cmocka_unit_test(test_cell_faces_2d),
+        cmocka_unit_test(test_cell_faces_3d),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

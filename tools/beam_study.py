@@ -1,0 +1,166 @@
+#!/usr/bin/python3
+"""Cantilever beam studies (issue: elastic solver validation).
+
+  tools/beam_study.py static  [--dx 2e-3 1e-3 5e-4] [--loads 1750 17500]
+      quasi-static beam (cases/beam_2d_static.yaml) at each spacing and load:
+      final tip deflection against the elastica references, observed order.
+  tools/beam_study.py dynamic [--dx 1e-3]
+      the thesis' dynamic beam (cases/beam_2d.yaml) with all six kernels:
+      e_av against 33.59 mm (thesis, linear) and 30.4 mm (elastica + shear),
+      and the mean tip deflection over 1.5-3.0 ms.
+
+Runs go to results/beam_<study>/<run>/; the table is written as CSV and
+Markdown next to them, with a PNG. Every figure comes from the runs' own
+summary.json and history.csv.
+"""
+import argparse
+import csv
+import json
+import math
+import os
+import subprocess
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+SPH = os.environ.get("SPH", os.path.join(ROOT, "build", "sph"))
+KERNELS = ["cubic_spline", "gaussian", "quintic_spline", "wendland_c2", "double_cosine",
+           "hyperbolic"]
+# REFERENCES.md 1: elastica tip deflection plus about 0.25 mm of shear
+ELASTICA = {1750.0: 30.4e-3, 17500.0: 81.1e-3}
+LINEAR_1750 = 33.59e-3
+
+
+def run(case, out, sets):
+    cmd = [SPH, "run", case, "--out", out, "--quiet"]
+    for s in sets:
+        cmd += ["--set", s]
+    print("$ " + " ".join(cmd), flush=True)
+    proc = subprocess.run(cmd, capture_output=True, text=True)
+    sys.stdout.write(proc.stdout)
+    if proc.returncode not in (0, 3):
+        sys.stderr.write(proc.stderr)
+        sys.exit(f"beam_study: sph exited with {proc.returncode}")
+    with open(os.path.join(out, "summary.json")) as f:
+        return json.load(f)
+
+
+def history(out):
+    with open(os.path.join(out, "history.csv"), newline="") as f:
+        rows = list(csv.DictReader(f))
+    return [float(r["time_s"]) for r in rows], [float(r["tip_deflection_m"]) for r in rows]
+
+
+def e_av(times, values, reference, window=(1.5e-3, 3.0e-3)):
+    errors = [abs(abs(v) - reference) / reference for t, v in zip(times, values)
+              if window[0] <= t <= window[1] * (1 + 1e-9)]
+    return sum(errors) / len(errors) if errors else float("nan")
+
+
+def write_table(folder, name, header, rows):
+    with open(os.path.join(folder, name + ".csv"), "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(header)
+        w.writerows(rows)
+    with open(os.path.join(folder, name + ".md"), "w") as f:
+        f.write("| " + " | ".join(header) + " |\n")
+        f.write("|" + " --- |" * len(header) + "\n")
+        for r in rows:
+            f.write("| " + " | ".join(str(x) for x in r) + " |\n")
+    print(open(os.path.join(folder, name + ".md")).read())
+
+
+def static(args):
+    folder = os.path.join(ROOT, "results", "beam_static")
+    os.makedirs(folder, exist_ok=True)
+    rows, series = [], {}
+    for load in args.loads:
+        for dx in args.dx:
+            out = os.path.join(folder, f"F{int(load)}_dx{dx:g}")
+            s = run(os.path.join(ROOT, "cases", "beam_2d_static.yaml"), out,
+                    [f"numerics.dx={dx}", f"groups.tip.load.force=[0, {-load}]",
+                     f"reference.value={-ELASTICA[load]}"] + args.set)
+            w = abs(s.get("tip_deflection_final_m") or float("nan"))
+            ref = ELASTICA[load]
+            rows.append([int(load), dx * 1e3, s["particles"], s["steps"], round(s["wall_time_s"], 1),
+                         s["status"], round(w * 1e3, 3), round(100 * (w - ref) / ref, 2),
+                         s.get("max_neighbour_loss_fraction")])
+            series.setdefault(load, []).append((dx, w))
+    orders = []
+    for load, pts in series.items():
+        pts.sort(reverse=True)
+        for (h1, w1), (h2, w2), (h3, w3) in zip(pts, pts[1:], pts[2:]):
+            if w2 != w3 and (w1 - w2) / (w2 - w3) > 0:
+                orders.append((load, h3, math.log((w1 - w2) / (w2 - w3)) / math.log(h1 / h2)))
+    write_table(folder, "static", ["F (N)", "dx (mm)", "particles", "steps", "wall (s)", "status",
+                                   "tip deflection (mm)", "error vs elastica (%)",
+                                   "neighbour-loss fraction"], rows)
+    for load, h, p in orders:
+        print(f"observed order at F = {load:g} N down to dx = {h * 1e3:g} mm: {p:.2f}")
+    fig, ax = plt.subplots(figsize=(6, 4))
+    for load, pts in series.items():
+        ax.loglog([p[0] * 1e3 for p in pts],
+                  [abs(p[1] - ELASTICA[load]) / ELASTICA[load] for p in pts], "o-",
+                  label=f"F = {load / 1e3:g} kN")
+    ax.set_xlabel("dx (mm)")
+    ax.set_ylabel("|W - W_elastica| / W_elastica")
+    ax.grid(alpha=0.3, which="both")
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(os.path.join(folder, "static_convergence.png"), dpi=110)
+
+
+def dynamic(args):
+    folder = os.path.join(ROOT, "results", "beam_dynamic")
+    os.makedirs(folder, exist_ok=True)
+    rows = []
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    for kernel in args.kernels:
+        out = os.path.join(folder, kernel)
+        s = run(os.path.join(ROOT, "cases", "beam_2d.yaml"), out,
+                [f"numerics.kernel={kernel}", f"numerics.dx={args.dx[0]}"] + args.set)
+        t, w = history(out)
+        window = [abs(v) for tt, v in zip(t, w) if 1.5e-3 <= tt <= 3.0e-3 * (1 + 1e-9)]
+        mean = sum(window) / len(window) if window else float("nan")
+        rows.append([kernel, s["status"], s["steps"], round(s["wall_time_s"], 1),
+                     round(mean * 1e3, 3), round(100 * e_av(t, w, LINEAR_1750), 2),
+                     round(100 * e_av(t, w, ELASTICA[1750.0]), 2),
+                     round(100 * (s.get("energy_drift") or float("nan")), 3)])
+        ax.plot([1e3 * x for x in t], [-1e3 * x for x in w], label=kernel)
+    write_table(folder, "dynamic", ["kernel", "status", "steps", "wall (s)",
+                                    "mean deflection 1.5-3 ms (mm)", "e_av vs 33.59 mm (%)",
+                                    "e_av vs 30.4 mm (%)", "energy drift (%)"], rows)
+    ax.axhline(33.59, color="k", ls=":", label="linear 33.59 mm")
+    ax.axhline(30.4, color="k", ls="--", label="elastica 30.4 mm")
+    ax.set_xlabel("time (ms)")
+    ax.set_ylabel("tip deflection (mm)")
+    ax.legend(fontsize=8)
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(os.path.join(folder, "dynamic_kernels.png"), dpi=110)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("study", choices=["static", "dynamic"])
+    ap.add_argument("--dx", type=float, nargs="+")
+    ap.add_argument("--loads", type=float, nargs="+", default=[1750.0, 17500.0])
+    ap.add_argument("--kernels", nargs="+", default=KERNELS)
+    ap.add_argument("--set", action="append", default=[], help="extra --set for every run")
+    args = ap.parse_args()
+    if not os.path.exists(SPH):
+        sys.exit(f"beam_study: {SPH} not found; build first (tools/setup.sh build)")
+    if args.study == "static":
+        args.dx = args.dx or [2e-3, 1e-3, 5e-4]
+        static(args)
+    else:
+        args.dx = args.dx or [1e-3]
+        dynamic(args)
+
+
+if __name__ == "__main__":
+    main()
