@@ -26,7 +26,7 @@ struct loop {
     struct solver *s;
     struct output *out;
     const struct sph_scene *scene;
-    double t, dt, dt_prev, dt_initial, external_work, power_prev;
+    double t, dt, dt_prev, dt_initial, external_work;
     long step;
     double next_history, next_snapshot, next_progress_wall, wall_start;
     double energy_start, energy_scale;
@@ -170,7 +170,7 @@ static int one_step(struct loop *L)
         }
     }
     double load[3];
-    load_vector(L, L->t, load);
+    load_vector(L, L->t, load); /* F(t^n): the kick of this step uses it */
     const double end = L->c->numerics.end_time;
     L->dt = L->c->numerics.cfl * L->s->run.h / L->red.max_signal;
     if (L->t + L->dt > end)
@@ -179,10 +179,8 @@ static int one_step(struct loop *L)
     L->t += L->dt;
     L->dt_prev = L->dt;
     ++L->step;
-    load_vector(L, L->t, load);
     solver_reduce(L->s, load, &L->red);
-    L->external_work += 0.5 * (L->power_prev + L->red.load_power) * L->dt;
-    L->power_prev = L->red.load_power;
+    L->external_work += L->red.load_power * L->dt; /* F(t^n) . v^(n+1/2) dt */
     L->energy_scale =
         fmax(L->energy_scale, fmax(fabs(L->external_work), L->red.kinetic + fabs(L->red.internal)));
     track_probe(L);

@@ -362,8 +362,8 @@ static void pass2(struct solver *s)
 {
     cl_mem *f = s->field;
     const cl_int4 dims = {{s->grid.dims[0], s->grid.dims[1], s->grid.dims[2], 0}};
-    SET_ARGS(s->k.pass2, MEM(f[FIELD_POS]), MEM(f[FIELD_VEL]), MEM(f[FIELD_RHO]),
-             MEM(f[FIELD_MASS]), MEM(f[FIELD_PRESSURE]), MEM(f[FIELD_STRESS]),
+    SET_ARGS(s->k.pass2, MEM(f[FIELD_POS]), MEM(f[FIELD_POS0]), MEM(f[FIELD_VEL]),
+             MEM(f[FIELD_RHO]), MEM(f[FIELD_MASS]), MEM(f[FIELD_PRESSURE]), MEM(f[FIELD_STRESS]),
              MEM(f[FIELD_ARTIFICIAL_STRESS]), MEM(f[FIELD_CSPH]), MEM(f[FIELD_MATERIAL]),
              GRID_ARG_LIST(s, dims), MEM(s->materials), MEM(s->run_params),
              MEM(f[FIELD_ACCELERATION]), MEM(f[FIELD_ENERGY_RATE]), MEM(f[FIELD_XSPH_VELOCITY]),
@@ -429,7 +429,7 @@ void solver_reduce(struct solver *s, const double load[3], struct reduction *out
     cl_mem *f = s->field;
     struct real4_arg a_load;
     SET_ARGS(s->k.reduce, MEM(f[FIELD_POS]), MEM(f[FIELD_POS_AT_SORT]), MEM(f[FIELD_DISPLACEMENT]),
-             MEM(f[FIELD_VEL]), MEM(f[FIELD_MASS]), MEM(f[FIELD_ENERGY]), MEM(f[FIELD_RHO]),
+             MEM(f[FIELD_VEL_HALF]), MEM(f[FIELD_MASS]), MEM(f[FIELD_ENERGY]), MEM(f[FIELD_RHO]),
              MEM(f[FIELD_FLAGS]), MEM(f[FIELD_MATERIAL]), MEM(f[FIELD_ID]), MEM(s->materials),
              MEM(s->run_params), real4_value(s, &a_load, load), MEM(s->partials), INT(s->n));
     launch(s, s->k.reduce, (size_t)s->reduce_groups * REDUCE_GROUP_SIZE, REDUCE_GROUP_SIZE);

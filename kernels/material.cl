@@ -4,7 +4,7 @@
  * and energy, then the equation of state and the artificial stress of the new
  * state (for the next pass 2).
  *
- * reads: velocity_gradient, density_rate, energy_rate, material;
+ * reads: velocity_gradient, density_rate, energy_rate, material, pressure (p^n);
  * updates: density_change, energy, deviatoric_stress, plastic_strain;
  * writes: rho (= rho0 + density_change), pressure, artificial_stress.
  */
@@ -159,9 +159,19 @@ __kernel void material_update(__global real *restrict rho, __global real *restri
     fullt_load(velocity_gradient[i], l);
     strain_rate_and_spin(l, m->plane_stress_nu, d, w);
     jaumann_stress_rate(s, d, w, m->shear_modulus, rate);
+    /* stress power with the mid-step stress (sigma^n + sigma^(n+1)) / 2 and
+     * the half-step strain rate: for an elastic solid this integrates the
+     * strain energy exactly; the SPH form of L makes it the counterpart of
+     * the stress forces' work (see pass2.cl) */
+    const real p_old = pressure[i];
+    real power_deviatoric = 0;
+    const real trace_d = d[0][0] + d[1][1] + d[2][2];
     for (int a = 0; a < 3; ++a)
-        for (int b = 0; b < 3; ++b)
+        for (int b = 0; b < 3; ++b) {
+            power_deviatoric += s[a][b] * d[a][b];
             s[a][b] += dt * rate[a][b];
+            power_deviatoric += s[a][b] * d[a][b];
+        }
 #ifdef SPH_PLASTICITY
     if (m->strength == SPH_STRENGTH_PERFECTLY_PLASTIC) {
         real j2 = 0;
@@ -178,7 +188,10 @@ __kernel void material_update(__global real *restrict rho, __global real *restri
 #endif
     const real change = density_change[i] + dt * density_rate[i];
     const real density = m->density + change;
-    const real e = energy[i] + dt * energy_rate[i];
+    const real e_trial = energy[i] + dt * energy_rate[i];
+    const real p_trial = pressure_eos(m, change / m->density, e_trial);
+    const real power = (real)0.5 * (power_deviatoric - (p_old + p_trial) * trace_d);
+    const real e = e_trial + dt * power / rho[i];
     const real p = pressure_eos(m, change / m->density, e);
     density_change[i] = change;
     rho[i] = density;

@@ -1,17 +1,19 @@
 /*
- * Pass 2: acceleration, internal energy rate and XSPH velocity.
+ * Pass 2: acceleration, the artificial part of the energy rate, and the XSPH
+ * velocity.
  *
  * Momentum (thesis eq. 3.17; Gray, Monaghan & Swift 2001 eq. 28), with
  * sigma = -p I + S and the kernel gradient g = grad_i W_ij:
- *   dv_i/dt = sum_j m_j [ sigma_i/rho_i^2 . g_i + sigma_j/rho_j^2 . g_j
+ *   dv_i/dt = sum_j m_j [ (sigma_i . g_i + sigma_j . g_j) / (rho_i rho_j)
  *                         + (f_ij^n (R_i + R_j) - Pi_ij I) . g ]
  * where g_i = g_j = g in plain SPH, and with CSPH g_i = C_i^T g,
- * g_j = C_j^T g (Bonet & Lok 1999): the pair terms stay antisymmetric, so
- * linear momentum is conserved, and the force is the one whose work equals
- * the stress power computed from pass 1's corrected velocity gradient.
- * Energy, the matching exchange that conserves total energy:
- *   de_i/dt = -sum_j m_j (v_i - v_j) . [ sigma_i/rho_i^2 . g_i
- *                                        + (f^n (R_i + R_j) - Pi I) . g / 2 ]
+ * g_j = C_j^T g (Bonet & Lok 1999). The pair terms stay antisymmetric, so
+ * linear momentum is conserved, and the stress force is the work conjugate
+ * of pass 1's velocity gradient L_i = sum_j V_j (v_j - v_i) (x) g_i: the
+ * material update adds sigma_i : L_i / rho_i to the internal energy, which
+ * balances the work of these forces exactly.
+ * This pass adds the heating of the artificial terms,
+ *   de_i/dt = -1/2 sum_j m_j (v_i - v_j) . (f^n (R_i + R_j) - Pi I) . g.
  * Pi_ij: Monaghan artificial viscosity (Monaghan 1992 eq. 4.1).
  * f_ij = W(r_ij) / W(dx): Monaghan (2000) artificial stress weight.
  * XSPH (Monaghan 1989): v^_i = v_i + eps sum_j m_j / rho_ij (v_j - v_i) W_ij.
@@ -20,14 +22,15 @@
  *        artificial_stress, csph, material;
  * writes: acceleration, energy_rate, xsph_velocity.
  */
-static inline void total_stress_over_rho2(real p, symt dev, real density, real out[3][3])
+
+static inline void total_stress_over_rho(real p, symt dev, real density, real out[3][3])
 {
     symt_load(dev, out);
-    const real inv_rho2 = (real)1 / (density * density);
+    const real inv_rho = (real)1 / density;
     for (int a = 0; a < 3; ++a) {
         out[a][a] -= p;
         for (int b = 0; b < 3; ++b)
-            out[a][b] *= inv_rho2;
+            out[a][b] *= inv_rho;
     }
 }
 
@@ -42,8 +45,8 @@ static inline real artificial_viscosity(vec vij, vec xij, real r2, real h, real 
 }
 
 __kernel void pass2_momentum_energy(
-    __global const vec *restrict pos, __global const vec *restrict vel,
-    __global const real *restrict rho, __global const real *restrict mass,
+    __global const vec *restrict pos, __global const vec *restrict pos0,
+    __global const vec *restrict vel, __global const real *restrict rho, __global const real *restrict mass,
     __global const real *restrict pressure, __global const symt *restrict deviatoric_stress,
     __global const symt *restrict artificial_stress, __global const fullt *restrict csph,
     __global const int *restrict material, GRID_ARGS,
@@ -60,7 +63,7 @@ __kernel void pass2_momentum_energy(
     const real rho_i = rho[i];
     const real c_i = materials[material[i]].sound_speed;
     real sigma_i[3][3];
-    total_stress_over_rho2(pressure[i], deviatoric_stress[i], rho_i, sigma_i);
+    total_stress_over_rho(pressure[i], deviatoric_stress[i], rho_i, sigma_i);
 #ifdef SPH_ARTIFICIAL_STRESS
     real r_i[3][3];
     symt_load(artificial_stress[i], r_i);
@@ -84,12 +87,12 @@ __kernel void pass2_momentum_energy(
             const real r = sqrt(r2);
             const vec vij = vi - vel[j];
             const real rho_j = rho[j], m_j = mass[j];
-            const real rho_mean = (real)0.5 * (rho_i + rho_j);
+            const real rho_mean = (real)0.5 * (rho_i + rho_j), inv_rho_j = (real)1 / rho_j;
             const real pi_ij = artificial_viscosity(
                 vij, xij, r2, h, (real)0.5 * (c_i + materials[material[j]].sound_speed), rho_mean,
                 run->av_alpha, run->av_beta);
             real sigma_j[3][3], extra[3][3]; /* extra: -Pi I + f^n (R_i + R_j) */
-            total_stress_over_rho2(pressure[j], deviatoric_stress[j], rho_j, sigma_j);
+            total_stress_over_rho(pressure[j], deviatoric_stress[j], rho_j, sigma_j);
             for (int a = 0; a < 3; ++a)
                 for (int b = 0; b < 3; ++b)
                     extra[a][b] = a == b ? -pi_ij : (real)0;
@@ -97,10 +100,19 @@ __kernel void pass2_momentum_energy(
             {
                 real r_j[3][3];
                 symt_load(artificial_stress[j], r_j);
+                /* Monaghan's weight (W(r) / W(dx))^n, less the same weight at
+                 * the pair's initial distance: zero for the undeformed lattice
+                 * and for pairs that separate, so the term acts against
+                 * clumping only and adds no traction at free surfaces */
+                const vec x0ij = pos0[i] - pos0[j];
                 const real f = kernel_w(r, h) * run->as_inv_w_dx;
-                real fn = 1;
-                for (int k = 0; k < run->as_exponent; ++k)
+                const real f0 = kernel_w(length(x0ij), h) * run->as_inv_w_dx;
+                real fn = 1, f0n = 1;
+                for (int k = 0; k < run->as_exponent; ++k) {
                     fn *= f;
+                    f0n *= f0;
+                }
+                fn = fmax(fn - f0n, (real)0);
                 for (int a = 0; a < 3; ++a)
                     for (int b = 0; b < 3; ++b)
                         extra[a][b] += fn * (r_i[a][b] + r_j[a][b]);
@@ -127,9 +139,9 @@ __kernel void pass2_momentum_energy(
             for (int a = 0; a < SPH_DIM; ++a) {
                 const real v_a = vec_get(vij, a);
                 for (int b = 0; b < SPH_DIM; ++b) {
-                    acc[a] += m_j * (sigma_i[a][b] * g_i[b] + sigma_j[a][b] * g_j[b] +
+                    acc[a] += m_j * ((sigma_i[a][b] * g_i[b] + sigma_j[a][b] * g_j[b]) * inv_rho_j +
                                      extra[a][b] * grad[b]);
-                    de -= m_j * v_a * (sigma_i[a][b] * g_i[b] + (real)0.5 * extra[a][b] * grad[b]);
+                    de -= (real)0.5 * m_j * v_a * extra[a][b] * grad[b];
                 }
             }
 #ifdef SPH_XSPH

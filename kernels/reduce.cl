@@ -3,7 +3,9 @@
  * Each work-group writes SPH_RED_SLOTS partials; the host combines them in
  * double (sums add, maxima take the max, the bad index takes the min).
  *
- * reads: pos, pos_at_sort, displacement, vel, mass, energy, rho, flags, material, id;
+ * Velocities are the half-step ones the positions moved with, so the load
+ * power times dt is the exact work of the step's load.
+ * reads: pos, pos_at_sort, displacement, vel_half, mass, energy, rho, flags, material, id;
  * writes: partials.
  */
 static inline bool slot_is_max(int slot)
@@ -13,7 +15,7 @@ static inline bool slot_is_max(int slot)
 
 __kernel __attribute__((reqd_work_group_size(REDUCE_WG, 1, 1))) void
 reduce_step(__global const vec *restrict pos, __global const vec *restrict pos_at_sort,
-            __global const vec *restrict displacement, __global const vec *restrict vel,
+            __global const vec *restrict displacement, __global const vec *restrict vel_half,
             __global const real *restrict mass, __global const real *restrict energy,
             __global const real *restrict rho, __global const int *restrict flags,
             __global const int *restrict material, __global const int *restrict id,
@@ -29,7 +31,7 @@ reduce_step(__global const vec *restrict pos, __global const vec *restrict pos_a
     mine[SPH_RED_BAD_INDEX] = (real)INT_MAX;
     const vec f = vec_make(load_force.x, load_force.y, load_force.z);
     for (int i = get_global_id(0); i < n; i += get_global_size(0)) {
-        const vec v = vel[i], x = pos[i];
+        const vec v = vel_half[i], x = pos[i];
         const real speed = length(v);
         const int flag = flags[i];
         mine[SPH_RED_MAX_SIGNAL] = fmax(mine[SPH_RED_MAX_SIGNAL], materials[material[i]].sound_speed + speed);

@@ -96,7 +96,7 @@ def static(args):
         for (h1, w1), (h2, w2), (h3, w3) in zip(pts, pts[1:], pts[2:]):
             if w2 != w3 and (w1 - w2) / (w2 - w3) > 0:
                 orders.append((load, h3, math.log((w1 - w2) / (w2 - w3)) / math.log(h1 / h2)))
-    write_table(folder, "static", ["F (N)", "dx (mm)", "particles", "steps", "wall (s)", "status",
+    write_table(folder, "static" + args.tag, ["F (N)", "dx (mm)", "particles", "steps", "wall (s)", "status",
                                    "tip deflection (mm)", "error vs elastica (%)",
                                    "neighbour-loss fraction"], rows)
     for load, h, p in orders:
@@ -111,7 +111,7 @@ def static(args):
     ax.grid(alpha=0.3, which="both")
     ax.legend()
     fig.tight_layout()
-    fig.savefig(os.path.join(folder, "static_convergence.png"), dpi=110)
+    fig.savefig(os.path.join(folder, f"static_convergence{args.tag}.png"), dpi=110)
 
 
 def dynamic(args):
@@ -151,6 +151,7 @@ def main():
     ap.add_argument("--loads", type=float, nargs="+", default=[1750.0, 17500.0])
     ap.add_argument("--kernels", nargs="+", default=KERNELS)
     ap.add_argument("--set", action="append", default=[], help="extra --set for every run")
+    ap.add_argument("--tag", default="", help="suffix of the table and plot names")
     args = ap.parse_args()
     if not os.path.exists(SPH):
         sys.exit(f"beam_study: {SPH} not found; build first (tools/setup.sh build)")
