@@ -105,6 +105,7 @@ static const char *const law_names[] = {"constant", "linear_ramp", "quadratic_ra
 static const char *const quantity_names[] = {"displacement_x", "displacement_y", "displacement_z",
                                              NULL};
 static const char *const precision_names[] = {"float", "double", NULL};
+static const char *const as_weight_names[] = {"relative", "lattice", NULL};
 static const char *const ref_nouns[] = {"material", "body", "group"};
 
 /* ---- errors ------------------------------------------------------------ */
@@ -903,6 +904,7 @@ static const struct schema viscosity_schema = SCHEMA(viscosity_fields, struct ca
 static const struct field stress_fields[] = {
     NUMBER("epsilon", struct case_numerics, as_epsilon, 0, R_NONNEG, 0, 0, 0, NULL),
     INT("exponent", struct case_numerics, as_exponent, 0, 1, 8, 4, NULL),
+    ENUM("weight", struct case_numerics, as_lattice_weight, 0, 0, as_weight_names, NULL),
 };
 static const struct schema stress_schema = SCHEMA(stress_fields, struct case_numerics, NULL);
 

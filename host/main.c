@@ -69,8 +69,6 @@ static int parse_options(int argc, char **argv, struct run_options *o, char **se
             o->device = argv[++i];
         } else if (allow_run && strcmp(a, "--quiet") == 0) {
             o->quiet = 1;
-        } else if (allow_run && strcmp(a, "--profile") == 0) {
-            o->profile = 1;
         } else if (a[0] == '-' && a[1] == '-') {
             fprintf(stderr, "sph: unknown or incomplete option '%s'\n\n%s", a, usage);
             return 1;

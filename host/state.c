@@ -41,7 +41,11 @@ void solver_build_options(const struct sph_case *c, char *options, size_t size)
     snprintf(options, size, "-cl-std=CL1.2 -DSPH_DIM=%d -DSPH_KERNEL=%d%s%s%s%s%s%s", c->dimension,
              (int)num->kernel,
              c->dimension == 2 && c->plane == SPH_PLANE_STRESS ? " -DSPH_PLANE_STRESS" : "",
-             num->csph ? " -DSPH_CSPH" : "", num->as_epsilon > 0 ? " -DSPH_ARTIFICIAL_STRESS" : "",
+             num->csph ? " -DSPH_CSPH" : "",
+             num->as_epsilon > 0
+                 ? (num->as_lattice_weight ? " -DSPH_ARTIFICIAL_STRESS -DSPH_AS_LATTICE_WEIGHT"
+                                           : " -DSPH_ARTIFICIAL_STRESS")
+                 : "",
              num->xsph_epsilon > 0 ? " -DSPH_XSPH" : "", plastic ? " -DSPH_PLASTICITY" : "",
              num->double_precision ? " -DSPH_DOUBLE" : "");
 }

@@ -82,6 +82,7 @@ struct case_numerics {
     double av_alpha, av_beta;    /* default 0.1, 0.1 */
     double as_epsilon;           /* default 0 (off) */
     int as_exponent;             /* default 4 */
+    int as_lattice_weight;       /* weight: 0 relative (default), 1 lattice (Monaghan 2000) */
     double xsph_epsilon;         /* default 0 (off) */
     int csph;                    /* default 0 */
     double cfl;                  /* default 0.3 */

@@ -68,11 +68,15 @@ static inline vec vec_make(real x, real y, real z)
 static inline void symt_load(symt s, real t[3][3])
 {
 #if SPH_DIM == 2
-    t[0][0] = s.s0; t[1][1] = s.s1; t[2][2] = s.s2;
+    t[0][0] = s.s0;
+    t[1][1] = s.s1;
+    t[2][2] = s.s2;
     t[0][1] = t[1][0] = s.s3;
     t[0][2] = t[2][0] = t[1][2] = t[2][1] = 0;
 #else
-    t[0][0] = s.s0; t[1][1] = s.s1; t[2][2] = s.s2;
+    t[0][0] = s.s0;
+    t[1][1] = s.s1;
+    t[2][2] = s.s2;
     t[0][1] = t[1][0] = s.s3;
     t[0][2] = t[2][0] = s.s4;
     t[1][2] = t[2][1] = s.s5;
@@ -94,11 +98,20 @@ static inline void fullt_load(fullt f, real t[3][3])
         for (int b = 0; b < 3; ++b)
             t[a][b] = 0;
 #if SPH_DIM == 2
-    t[0][0] = f.s0; t[0][1] = f.s1; t[1][0] = f.s2; t[1][1] = f.s3;
+    t[0][0] = f.s0;
+    t[0][1] = f.s1;
+    t[1][0] = f.s2;
+    t[1][1] = f.s3;
 #else
-    t[0][0] = f.s0; t[0][1] = f.s1; t[0][2] = f.s2;
-    t[1][0] = f.s3; t[1][1] = f.s4; t[1][2] = f.s5;
-    t[2][0] = f.s6; t[2][1] = f.s7; t[2][2] = f.s8;
+    t[0][0] = f.s0;
+    t[0][1] = f.s1;
+    t[0][2] = f.s2;
+    t[1][0] = f.s3;
+    t[1][1] = f.s4;
+    t[1][2] = f.s5;
+    t[2][0] = f.s6;
+    t[2][1] = f.s7;
+    t[2][2] = f.s8;
 #endif
 }
 
@@ -107,8 +120,8 @@ static inline fullt fullt_store(real t[3][3])
 #if SPH_DIM == 2
     return (fullt)(t[0][0], t[0][1], t[1][0], t[1][1]);
 #else
-    return (fullt)(t[0][0], t[0][1], t[0][2], t[1][0], t[1][1], t[1][2], t[2][0], t[2][1],
-                   t[2][2], 0, 0, 0, 0, 0, 0, 0);
+    return (fullt)(t[0][0], t[0][1], t[0][2], t[1][0], t[1][1], t[1][2], t[2][0], t[2][1], t[2][2],
+                   0, 0, 0, 0, 0, 0, 0);
 #endif
 }
 
@@ -118,8 +131,8 @@ static inline fullt fullt_store(real t[3][3])
  * its sort key. Cells are at least support * (1 + skin) wide and the grid is
  * re-sorted before any particle moves skin * support / 2, so every neighbour
  * within the support lies in the 3^d cells around the sort-time cell. */
-#define GRID_ARGS                                                                                 \
-    __global const ulong *restrict sort_keys, __global const int *restrict cell_start,            \
+#define GRID_ARGS                                                                                  \
+    __global const ulong *restrict sort_keys, __global const int *restrict cell_start,             \
         __global const int *restrict cell_end, const int4 grid_dims
 
 static inline int4 grid_cell_coords(int cell, int4 dims)
@@ -141,39 +154,45 @@ static inline int4 grid_cell_coords(int cell, int4 dims)
 /* FOR_EACH_NEIGHBOUR(i, j) { ... } END_FOR_EACH_NEIGHBOUR visits every j in
  * the 3^d cells around i's cell, including i itself; the body tests the
  * distance against the support. */
-#define FOR_EACH_NEIGHBOUR(i, j)                                                                  \
-    {                                                                                             \
-        const int4 home_ = grid_cell_coords((int)(sort_keys[i] >> 32), grid_dims);                \
-        for (int dz_ = -GRID_DZ; dz_ <= GRID_DZ; ++dz_) {                                         \
-            const int cz_ = home_.z + dz_;                                                        \
-            if (cz_ < 0 || cz_ >= grid_dims.z)                                                    \
-                continue;                                                                         \
-            for (int dy_ = -1; dy_ <= 1; ++dy_) {                                                 \
-                const int cy_ = home_.y + dy_;                                                    \
-                if (cy_ < 0 || cy_ >= grid_dims.y)                                                \
-                    continue;                                                                     \
-                const int row_ = (cz_ * grid_dims.y + cy_) * grid_dims.x;                         \
-                const int x0_ = max(home_.x - 1, 0), x1_ = min(home_.x + 1, grid_dims.x - 1);     \
-                /* cells x0..x1 of one row are contiguous in the sorted order */                  \
-                int first_ = -1, last_ = -1;                                                      \
-                for (int cx_ = x0_; cx_ <= x1_; ++cx_) {                                          \
-                    const int s_ = cell_start[row_ + cx_];                                        \
-                    if (s_ < 0)                                                                   \
-                        continue;                                                                 \
-                    if (first_ < 0)                                                               \
-                        first_ = s_;                                                              \
-                    last_ = cell_end[row_ + cx_];                                                 \
-                }                                                                                 \
+#define FOR_EACH_NEIGHBOUR(i, j)                                                                   \
+    {                                                                                              \
+        const int4 home_ = grid_cell_coords((int)(sort_keys[i] >> 32), grid_dims);                 \
+        for (int dz_ = -GRID_DZ; dz_ <= GRID_DZ; ++dz_) {                                          \
+            const int cz_ = home_.z + dz_;                                                         \
+            if (cz_ < 0 || cz_ >= grid_dims.z)                                                     \
+                continue;                                                                          \
+            for (int dy_ = -1; dy_ <= 1; ++dy_) {                                                  \
+                const int cy_ = home_.y + dy_;                                                     \
+                if (cy_ < 0 || cy_ >= grid_dims.y)                                                 \
+                    continue;                                                                      \
+                const int row_ = (cz_ * grid_dims.y + cy_) * grid_dims.x;                          \
+                const int x0_ = max(home_.x - 1, 0), x1_ = min(home_.x + 1, grid_dims.x - 1);      \
+                /* cells x0..x1 of one row are contiguous in the sorted order */                   \
+                int first_ = -1, last_ = -1;                                                       \
+                for (int cx_ = x0_; cx_ <= x1_; ++cx_) {                                           \
+                    const int s_ = cell_start[row_ + cx_];                                         \
+                    if (s_ < 0)                                                                    \
+                        continue;                                                                  \
+                    if (first_ < 0)                                                                \
+                        first_ = s_;                                                               \
+                    last_ = cell_end[row_ + cx_];                                                  \
+                }                                                                                  \
                 for (int j = first_; j < last_; ++j) {
 
-#define END_FOR_EACH_NEIGHBOUR                                                                    \
-    }                                                                                             \
-    }                                                                                             \
-    }                                                                                             \
+#define END_FOR_EACH_NEIGHBOUR                                                                     \
+    }                                                                                              \
+    }                                                                                              \
+    }                                                                                              \
     }
 
 /* Work-group size of the reduction kernels (grid bounds, per-step reduce). */
 #define REDUCE_WG 64
 
-static inline real kernel_w(real r, real h) { return sph_kernel_value(SPH_KERNEL, SPH_DIM, r, h); }
-static inline real kernel_dwdr(real r, real h) { return sph_kernel_dwdr(SPH_KERNEL, SPH_DIM, r, h); }
+static inline real kernel_w(real r, real h)
+{
+    return sph_kernel_value(SPH_KERNEL, SPH_DIM, r, h);
+}
+static inline real kernel_dwdr(real r, real h)
+{
+    return sph_kernel_dwdr(SPH_KERNEL, SPH_DIM, r, h);
+}

@@ -109,13 +109,13 @@ __kernel void grid_cell_ranges(__global const ulong *restrict sort_keys,
 /* Gathers one field into sorted order: out[i] = in[slot of sorted key i].
  * After the gather the host swaps the buffers; the key's low half is then
  * rewritten to i so the keys stay valid for the sorted layout. */
-#define GRID_GATHER(NAME, TYPE)                                                                   \
+#define GRID_GATHER(NAME, TYPE)                                                                    \
     __kernel void NAME(__global const ulong *restrict sort_keys, __global const TYPE *restrict in, \
-                       __global TYPE *restrict out, const int n)                                  \
-    {                                                                                             \
-        const int i = get_global_id(0);                                                           \
-        if (i < n)                                                                                \
-            out[i] = in[(int)(sort_keys[i] & 0xffffffffu)];                                       \
+                       __global TYPE *restrict out, const int n)                                   \
+    {                                                                                              \
+        const int i = get_global_id(0);                                                            \
+        if (i < n)                                                                                 \
+            out[i] = in[(int)(sort_keys[i] & 0xffffffffu)];                                        \
     }
 GRID_GATHER(grid_gather_real, real)
 GRID_GATHER(grid_gather_int, int)

@@ -53,8 +53,8 @@ static inline void jaumann_stress_rate(real s[3][3], real d[3][3], real w[3][3],
             real rotation = 0;
             for (int e = 0; e < 3; ++e)
                 rotation += w[a][e] * s[e][b] - s[a][e] * w[e][b];
-            rate[a][b] = (real)2 * shear_modulus * (d[a][b] - (a == b ? trace_third : (real)0)) +
-                         rotation;
+            rate[a][b] =
+                (real)2 * shear_modulus * (d[a][b] - (a == b ? trace_third : (real)0)) + rotation;
         }
 }
 
@@ -137,18 +137,14 @@ static inline real radial_return(real s[3][3], real yield_stress)
     return equivalent;
 }
 
-__kernel void material_update(__global real *restrict rho, __global real *restrict density_change,
-                              __global real *restrict energy,
-                              __global symt *restrict deviatoric_stress,
-                              __global real *restrict plastic_strain,
-                              __global const fullt *restrict velocity_gradient,
-                              __global const real *restrict density_rate,
-                              __global const real *restrict energy_rate,
-                              __global const int *restrict material,
-                              __constant const struct sph_material *materials,
-                              __constant const struct sph_run_params *run, const real dt,
-                              __global real *restrict pressure,
-                              __global symt *restrict artificial_stress, const int n)
+__kernel void material_update(
+    __global real *restrict rho, __global real *restrict density_change,
+    __global real *restrict energy, __global symt *restrict deviatoric_stress,
+    __global real *restrict plastic_strain, __global const fullt *restrict velocity_gradient,
+    __global const real *restrict density_rate, __global const real *restrict energy_rate,
+    __global const int *restrict material, __constant const struct sph_material *materials,
+    __constant const struct sph_run_params *run, const real dt, __global real *restrict pressure,
+    __global symt *restrict artificial_stress, const int n)
 {
     const int i = get_global_id(0);
     if (i >= n)

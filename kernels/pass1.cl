@@ -50,16 +50,13 @@ static inline void csph_invert(real b[3][3], real c[3][3])
 }
 #endif
 
-__kernel void pass1_velocity_gradient(__global const vec *restrict pos,
-                                      __global const vec *restrict vel,
-                                      __global const real *restrict rho,
-                                      __global const real *restrict mass,
-                                      __global const int *restrict material, GRID_ARGS,
-                                      __constant const struct sph_material *materials,
-                                      __constant const struct sph_run_params *run,
-                                      __global fullt *restrict velocity_gradient,
-                                      __global real *restrict density_rate,
-                                      __global fullt *restrict csph, const int n)
+__kernel void pass1_velocity_gradient(
+    __global const vec *restrict pos, __global const vec *restrict vel,
+    __global const real *restrict rho, __global const real *restrict mass,
+    __global const int *restrict material, GRID_ARGS,
+    __constant const struct sph_material *materials, __constant const struct sph_run_params *run,
+    __global fullt *restrict velocity_gradient, __global real *restrict density_rate,
+    __global fullt *restrict csph, const int n)
 {
     const int i = get_global_id(0);
     if (i >= n)
@@ -104,7 +101,8 @@ __kernel void pass1_velocity_gradient(__global const vec *restrict pos,
             grad_v[a][b] = corrected[a][b];
     csph[i] = fullt_store(c);
 #else
-    (void)csph;
+        (void)
+    csph;
 #endif
     real divergence = grad_v[0][0] + grad_v[1][1] + grad_v[2][2];
 #ifdef SPH_PLANE_STRESS

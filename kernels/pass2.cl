@@ -34,6 +34,43 @@ static inline void total_stress_over_rho(real p, symt dev, real density, real ou
     }
 }
 
+/* out = m . v over the first SPH_DIM components */
+static inline void matrix_times(real m[3][3], real v[3], real out[3])
+{
+    for (int a = 0; a < SPH_DIM; ++a) {
+        out[a] = 0;
+        for (int b = 0; b < SPH_DIM; ++b)
+            out[a] += m[a][b] * v[b];
+    }
+}
+
+/* out = m^T . v */
+static inline void transpose_times(real m[3][3], real v[3], real out[3])
+{
+    for (int a = 0; a < SPH_DIM; ++a) {
+        out[a] = 0;
+        for (int b = 0; b < SPH_DIM; ++b)
+            out[a] += m[b][a] * v[b];
+    }
+}
+
+static inline void fullt_transpose_times(fullt f, real v[3], real out[3])
+{
+    real m[3][3];
+    fullt_load(f, m);
+    transpose_times(m, v, out);
+}
+
+/* out = (S - p I) . v */
+static inline void stress_times(real p, symt dev, real v[3], real out[3])
+{
+    real m[3][3];
+    symt_load(dev, m);
+    for (int a = 0; a < 3; ++a)
+        m[a][a] -= p;
+    matrix_times(m, v, out);
+}
+
 static inline real artificial_viscosity(vec vij, vec xij, real r2, real h, real c_mean,
                                         real rho_mean, real alpha, real beta)
 {
@@ -44,15 +81,17 @@ static inline real artificial_viscosity(vec vij, vec xij, real r2, real h, real 
     return (-alpha * c_mean * mu + beta * mu * mu) / rho_mean;
 }
 
-__kernel void pass2_momentum_energy(
-    __global const vec *restrict pos, __global const vec *restrict pos0,
-    __global const vec *restrict vel, __global const real *restrict rho, __global const real *restrict mass,
-    __global const real *restrict pressure, __global const symt *restrict deviatoric_stress,
-    __global const symt *restrict artificial_stress, __global const fullt *restrict csph,
-    __global const int *restrict material, GRID_ARGS,
-    __constant const struct sph_material *materials,
-    __constant const struct sph_run_params *run, __global vec *restrict acceleration,
-    __global real *restrict energy_rate, __global vec *restrict xsph_velocity, const int n)
+__kernel void
+pass2_momentum_energy(__global const vec *restrict pos, __global const vec *restrict pos0,
+                      __global const vec *restrict vel, __global const real *restrict rho,
+                      __global const real *restrict mass, __global const real *restrict pressure,
+                      __global const symt *restrict deviatoric_stress,
+                      __global const symt *restrict artificial_stress,
+                      __global const fullt *restrict csph, __global const int *restrict material,
+                      GRID_ARGS, __constant const struct sph_material *materials,
+                      __constant const struct sph_run_params *run,
+                      __global vec *restrict acceleration, __global real *restrict energy_rate,
+                      __global vec *restrict xsph_velocity, const int n)
 {
     const int i = get_global_id(0);
     if (i >= n)
@@ -87,62 +126,63 @@ __kernel void pass2_momentum_energy(
             const real r = sqrt(r2);
             const vec vij = vi - vel[j];
             const real rho_j = rho[j], m_j = mass[j];
-            const real rho_mean = (real)0.5 * (rho_i + rho_j), inv_rho_j = (real)1 / rho_j;
+            const real rho_mean = (real)0.5 * (rho_i + rho_j);
             const real pi_ij = artificial_viscosity(
                 vij, xij, r2, h, (real)0.5 * (c_i + materials[material[j]].sound_speed), rho_mean,
                 run->av_alpha, run->av_beta);
-            real sigma_j[3][3], extra[3][3]; /* extra: -Pi I + f^n (R_i + R_j) */
-            total_stress_over_rho(pressure[j], deviatoric_stress[j], rho_j, sigma_j);
-            for (int a = 0; a < 3; ++a)
-                for (int b = 0; b < 3; ++b)
-                    extra[a][b] = a == b ? -pi_ij : (real)0;
-#ifdef SPH_ARTIFICIAL_STRESS
-            {
-                real r_j[3][3];
-                symt_load(artificial_stress[j], r_j);
-                /* Monaghan's weight (W(r) / W(dx))^n, less the same weight at
-                 * the pair's initial distance: zero for the undeformed lattice
-                 * and for pairs that separate, so the term acts against
-                 * clumping only and adds no traction at free surfaces */
-                const vec x0ij = pos0[i] - pos0[j];
-                const real f = kernel_w(r, h) * run->as_inv_w_dx;
-                const real f0 = kernel_w(length(x0ij), h) * run->as_inv_w_dx;
-                real fn = 1, f0n = 1;
-                for (int k = 0; k < run->as_exponent; ++k) {
-                    fn *= f;
-                    f0n *= f0;
-                }
-                fn = fmax(fn - f0n, (real)0);
-                for (int a = 0; a < 3; ++a)
-                    for (int b = 0; b < 3; ++b)
-                        extra[a][b] += fn * (r_i[a][b] + r_j[a][b]);
-            }
-#endif
             const real dwdr_r = kernel_dwdr(r, h) / r;
-            real grad[3] = {0, 0, 0}, g_i[3] = {0, 0, 0}, g_j[3] = {0, 0, 0};
+            real grad[3] = {0, 0, 0}, g_i[3], g_j[3];
             for (int a = 0; a < SPH_DIM; ++a)
                 grad[a] = dwdr_r * vec_get(xij, a);
 #ifdef SPH_CSPH
-            {
-                real c_j_t[3][3];
-                fullt_load(csph[j], c_j_t);
-                for (int a = 0; a < SPH_DIM; ++a)
-                    for (int b = 0; b < SPH_DIM; ++b) {
-                        g_i[a] += c_i_t[b][a] * grad[b];
-                        g_j[a] += c_j_t[b][a] * grad[b];
-                    }
-            }
+            transpose_times(c_i_t, grad, g_i);
+            fullt_transpose_times(csph[j], grad, g_j);
 #else
-            for (int a = 0; a < SPH_DIM; ++a)
+            for (int a = 0; a < 3; ++a)
                 g_i[a] = g_j[a] = grad[a];
 #endif
-            for (int a = 0; a < SPH_DIM; ++a) {
-                const real v_a = vec_get(vij, a);
-                for (int b = 0; b < SPH_DIM; ++b) {
-                    acc[a] += m_j * ((sigma_i[a][b] * g_i[b] + sigma_j[a][b] * g_j[b]) * inv_rho_j +
-                                     extra[a][b] * grad[b]);
-                    de -= (real)0.5 * m_j * v_a * extra[a][b] * grad[b];
+            /* (sigma_i . g_i + sigma_j . g_j) / (rho_i rho_j) and the
+             * artificial terms (f^n (R_i + R_j) - Pi I) . g */
+            real t_i[3], t_j[3], extra[3];
+            matrix_times(sigma_i, g_i, t_i);
+            stress_times(pressure[j], deviatoric_stress[j], g_j, t_j);
+            for (int a = 0; a < SPH_DIM; ++a)
+                extra[a] = -pi_ij * grad[a];
+#ifdef SPH_ARTIFICIAL_STRESS
+            {
+                /* Monaghan's weight (W(r) / W(dx))^n; by default less the same
+                 * weight at the pair's initial distance: zero for the
+                 * undeformed lattice and for pairs that separate, so the term
+                 * acts against clumping only and adds no traction at free
+                 * surfaces (weight: lattice keeps Monaghan's original) */
+                const real f = kernel_w(r, h) * run->as_inv_w_dx;
+                real fn = 1;
+                for (int k = 0; k < run->as_exponent; ++k)
+                    fn *= f;
+#ifndef SPH_AS_LATTICE_WEIGHT
+                const vec x0ij = pos0[i] - pos0[j];
+                const real f0 = kernel_w(length(x0ij), h) * run->as_inv_w_dx;
+                real f0n = 1;
+                for (int k = 0; k < run->as_exponent; ++k)
+                    f0n *= f0;
+                fn = fmax(fn - f0n, (real)0);
+#endif
+                if (fn > 0) {
+                    real r_j[3][3], rg[3];
+                    symt_load(artificial_stress[j], r_j);
+                    for (int a = 0; a < SPH_DIM; ++a)
+                        for (int b = 0; b < SPH_DIM; ++b)
+                            r_j[a][b] += r_i[a][b];
+                    matrix_times(r_j, grad, rg);
+                    for (int a = 0; a < SPH_DIM; ++a)
+                        extra[a] += fn * rg[a];
                 }
+            }
+#endif
+            const real pair = m_j / rho_j; /* sigma_i already carries 1 / rho_i */
+            for (int a = 0; a < SPH_DIM; ++a) {
+                acc[a] += pair * (t_i[a] + t_j[a] / rho_i) + m_j * extra[a];
+                de -= (real)0.5 * m_j * vec_get(vij, a) * extra[a];
             }
 #ifdef SPH_XSPH
             xsph -= (m_j / rho_mean * kernel_w(r, h)) * vij;

@@ -51,10 +51,10 @@ static inline real sph_kernel_sigma(int type, int dim)
     case SPH_KERNEL_CUBIC_SPLINE:
         return dim == 1 ? (real)(2.0 / 3.0) : dim == 2 ? (real)10 / ((real)7 * pi) : (real)1 / pi;
     case SPH_KERNEL_GAUSSIAN:
-        return dim == 1   ? (real)1 / (sqrt(pi) * (real)SPH_ERF3 - (real)6 * (real)SPH_EXPM9)
-               : dim == 2 ? (real)1 / (pi * ((real)1 - (real)10 * (real)SPH_EXPM9))
-                          : (real)1 / (pi * sqrt(pi) * (real)SPH_ERF3 -
-                                       (real)42 * pi * (real)SPH_EXPM9);
+        return dim == 1 ? (real)1 / (sqrt(pi) * (real)SPH_ERF3 - (real)6 * (real)SPH_EXPM9)
+               : dim == 2
+                   ? (real)1 / (pi * ((real)1 - (real)10 * (real)SPH_EXPM9))
+                   : (real)1 / (pi * sqrt(pi) * (real)SPH_ERF3 - (real)42 * pi * (real)SPH_EXPM9);
     case SPH_KERNEL_QUINTIC_SPLINE:
         return dim == 1   ? (real)1 / (real)120
                : dim == 2 ? (real)7 / ((real)478 * pi)
@@ -64,17 +64,29 @@ static inline real sph_kernel_sigma(int type, int dim)
                : dim == 2 ? (real)7 / ((real)4 * pi)
                           : (real)21 / ((real)16 * pi);
     case SPH_KERNEL_DOUBLE_COSINE:
-        return dim == 1   ? (real)1 / ((real)6 * k)
-               : dim == 2 ? (real)1 / (pi * k * k * ((real)3 - (real)16 / (pi * pi)))
-                          : (real)1 / ((real)4 * pi * k * k * k * ((real)1 - (real)7.5 / (pi * pi)));
+        return dim == 1 ? (real)1 / ((real)6 * k)
+               : dim == 2
+                   ? (real)1 / (pi * k * k * ((real)3 - (real)16 / (pi * pi)))
+                   : (real)1 / ((real)4 * pi * k * k * k * ((real)1 - (real)7.5 / (pi * pi)));
     default: /* SPH_KERNEL_HYPERBOLIC */
-        return dim == 1 ? (real)1 / (real)7 : dim == 2 ? (real)1 / ((real)3 * pi) : (real)15 / ((real)62 * pi);
+        return dim == 1   ? (real)1 / (real)7
+               : dim == 2 ? (real)1 / ((real)3 * pi)
+                          : (real)15 / ((real)62 * pi);
     }
 }
 
-static inline real sph_cube(real x) { return x * x * x; }
-static inline real sph_pow4(real x) { return (x * x) * (x * x); }
-static inline real sph_pow5(real x) { return sph_pow4(x) * x; }
+static inline real sph_cube(real x)
+{
+    return x * x * x;
+}
+static inline real sph_pow4(real x)
+{
+    return (x * x) * (x * x);
+}
+static inline real sph_pow5(real x)
+{
+    return sph_pow4(x) * x;
+}
 
 /* The kernel's shape f(q), without sigma_d / h^d. */
 static inline real sph_kernel_shape(int type, real q)

@@ -107,7 +107,7 @@ static void test_beam_loads(void **state)
     assert_true(n->as_epsilon == 0.5);
     assert_int_equal(n->as_exponent, 4);
     assert_true(n->xsph_epsilon == 0.5);
-    assert_int_equal(n->csph, 0);
+    assert_int_equal(n->csph, 1);
     assert_true(n->cfl == 0.3);
     assert_true(n->end_time == 3.0e-3);
     assert_true(n->damping == 0);
