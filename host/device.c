@@ -113,6 +113,8 @@ static int enumerate(struct device_entry *out, int capacity)
         if (err == CL_DEVICE_NOT_FOUND)
             continue;
         CL_CHECK(err);
+        if (n > 32)
+            n = 32; /* clGetDeviceIDs reports the total, not what it wrote */
         for (cl_uint d = 0; d < n && count < capacity; ++d) {
             out[count].platform = platforms[p];
             out[count].device = devices[d];
@@ -344,8 +346,11 @@ static cl_program load_cached(struct sph_device *dev, const char *path, const ch
     cl_program program =
         clCreateProgramWithBinary(dev->context, 1, &dev->device, &size, binaries, &status, &err);
     free(binary);
-    if (err != CL_SUCCESS || status != CL_SUCCESS)
+    if (err != CL_SUCCESS || status != CL_SUCCESS) {
+        if (err == CL_SUCCESS)
+            clReleaseProgram(program);
         return NULL;
+    }
     if (clBuildProgram(program, 1, &dev->device, options, NULL, NULL) != CL_SUCCESS) {
         clReleaseProgram(program);
         return NULL; /* a stale or foreign binary: rebuild from source */

@@ -26,7 +26,7 @@ struct loop {
     struct solver *s;
     struct output *out;
     const struct sph_scene *scene;
-    double t, dt, dt_prev, dt_initial, external_work;
+    double t, dt, dt_cfl, dt_prev, dt_initial, external_work;
     long step;
     double next_history, next_snapshot, next_progress_wall, wall_start;
     double energy_start, energy_scale;
@@ -142,11 +142,11 @@ static int check_health(struct loop *L)
         L->status = "unstable";
         return 1;
     }
-    if (L->dt < 1e-3 * L->dt_initial) {
+    if (L->dt_cfl < 1e-3 * L->dt_initial) {
         snprintf(L->message, sizeof L->message,
                  "unstable at step %ld, t = %.6e s: the time step collapsed to %.3e s (from "
                  "%.3e s): max signal speed %.4g m/s",
-                 L->step, L->t, L->dt, L->dt_initial, L->red.max_signal);
+                 L->step, L->t, L->dt_cfl, L->dt_initial, L->red.max_signal);
         L->status = "unstable";
         return 1;
     }
@@ -172,7 +172,8 @@ static int one_step(struct loop *L)
     double load[3];
     load_vector(L, L->t, load); /* F(t^n): the kick of this step uses it */
     const double end = L->c->numerics.end_time;
-    L->dt = L->c->numerics.cfl * L->s->run.h / L->red.max_signal;
+    L->dt_cfl = L->c->numerics.cfl * L->s->run.h / L->red.max_signal;
+    L->dt = L->dt_cfl;
     if (L->t + L->dt > end)
         L->dt = fmax(end - L->t, 1e-30);
     solver_step(L->s, L->dt, L->dt_prev, load);
@@ -244,8 +245,11 @@ static int time_loop(struct loop *L)
             L->next_history += o->history_interval;
         }
         if (L->t >= L->next_snapshot * (1 - 1e-9)) {
-            if (write_snapshot(L))
+            if (write_snapshot(L)) {
+                L->status = "output_error";
+                snprintf(L->message, sizeof L->message, "a snapshot could not be written");
                 return 1;
+            }
             L->next_snapshot += o->snapshot_interval;
         }
         progress(L, 0);
@@ -273,7 +277,7 @@ static int start(struct loop *L, char *error, size_t size)
     const double zero[3] = {0, 0, 0};
     solver_reduce(L->s, zero, &L->red);
     L->dt_initial = L->c->numerics.cfl * L->s->run.h / L->red.max_signal;
-    L->dt = L->dt_initial;
+    L->dt = L->dt_cfl = L->dt_initial;
     L->energy_start = total_energy(L);
     L->initial_neighbours = malloc(sizeof(int) * (size_t)L->s->n);
     L->neighbours = malloc(sizeof(int) * (size_t)L->s->n);
@@ -282,7 +286,11 @@ static int start(struct loop *L, char *error, size_t size)
     write_history(L);
     L->next_history = L->c->output.history_interval;
     L->next_snapshot = L->c->output.snapshot_interval;
-    return write_snapshot(L);
+    if (write_snapshot(L)) {
+        snprintf(error, size, "cannot write the first snapshot into %.900s", L->out->folder);
+        return 1;
+    }
+    return 0;
 }
 
 int run_case(const struct run_options *opt)
@@ -306,12 +314,18 @@ int run_case(const struct run_options *opt)
     }
     char options[512];
     solver_build_options(c, options, sizeof options);
-    if (device_open(opt->device, opt->profile, &dev, error, sizeof error) ||
-        (c->numerics.double_precision && !dev.has_double &&
+    if (device_open(opt->device, opt->profile, &dev, error, sizeof error)) {
+        fprintf(stderr, "sph: %s\n", error);
+        scene_free(&scene);
+        free(c);
+        return 2;
+    }
+    if ((c->numerics.double_precision && !dev.has_double &&
          snprintf(error, sizeof error, "%s has no double precision; use precision: float",
                   dev.name) > 0) ||
         device_build(&dev, device_source_dir(), options, error, sizeof error)) {
         fprintf(stderr, "sph: %s\n", error);
+        device_close(&dev);
         scene_free(&scene);
         free(c);
         return 2;
@@ -346,7 +360,11 @@ int run_case(const struct run_options *opt)
         progress(&L, 1);
         struct run_summary sum;
         finish_summary(&L, &sum);
-        output_summary(&out, &sum);
+        if (output_summary(&out, &sum) != 0) {
+            fprintf(stderr, "sph: cannot write %s/summary.json\n", folder);
+            if (code == 0)
+                code = 1;
+        }
         if (code == 3)
             fprintf(stderr, "sph: %s; the last state is in %s\n", L.message, folder);
         print_summary_line(&sum, folder);

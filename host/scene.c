@@ -5,22 +5,25 @@
 #include <stdlib.h>
 #include <string.h>
 
-static int lattice_count(double length, double dx)
+#define MAX_PARTICLES 200000000L
+
+static double lattice_count(double length, double dx)
 {
-    return (int)floor(length / dx + 0.5);
+    return floor(length / dx + 0.5);
 }
 
 /* Particles of a box on a square lattice of spacing dx, centred in the box
  * so that a box of n dx holds n particles per axis at half-spacing from its
  * faces (bodies that share a face then continue one lattice). */
-static int box_particles(const struct case_box *box, int dim, double dx, int counts[3])
+static double box_particles(const struct case_box *box, int dim, double dx, int counts[3])
 {
-    int total = 1;
+    double total = 1;
     for (int a = 0; a < 3; ++a) {
-        counts[a] = a < dim ? lattice_count(box->max[a] - box->min[a], dx) : 1;
-        if (counts[a] < 1)
-            counts[a] = 1;
-        total *= counts[a];
+        double count = a < dim ? lattice_count(box->max[a] - box->min[a], dx) : 1;
+        if (count < 1)
+            count = 1;
+        total *= count;
+        counts[a] = count < (double)MAX_PARTICLES ? (int)count : (int)MAX_PARTICLES;
     }
     return total;
 }

@@ -171,7 +171,7 @@ int solver_create(struct solver *s, struct sph_device *dev, const struct sph_cas
     s->dim = c->dimension;
     s->n = scene->count;
     s->double_precision = c->numerics.double_precision;
-    s->padded_n = 1;
+    s->padded_n = LOCAL_SIZE; /* the bitonic launch covers at least one work-group */
     while (s->padded_n < s->n)
         s->padded_n <<= 1;
     s->reduce_groups = 64;
@@ -316,6 +316,7 @@ static void reorder_fields(struct solver *s)
     launch(s, s->k.mark_sorted, (size_t)s->n, 0);
 }
 
+static void pass1(struct solver *s);
 static void material(struct solver *s, double dt);
 
 int solver_sort(struct solver *s, char *error, size_t error_size)
@@ -325,8 +326,10 @@ int solver_sort(struct solver *s, char *error, size_t error_size)
     sort_keys(s);
     cell_ranges(s);
     reorder_fields(s);
-    /* pressure and artificial stress are derived from the reordered state;
-     * recompute them in the new order (dt = 0 changes nothing else) */
+    /* the CSPH correction, pressure and artificial stress are derived from
+     * the reordered state and read by the next pass 2: recompute them in the
+     * new order (material with dt = 0 changes nothing else) */
+    pass1(s);
     material(s, 0.0);
     return 0;
 }
@@ -429,9 +432,10 @@ void solver_reduce(struct solver *s, const double load[3], struct reduction *out
     cl_mem *f = s->field;
     struct real4_arg a_load;
     SET_ARGS(s->k.reduce, MEM(f[FIELD_POS]), MEM(f[FIELD_POS_AT_SORT]), MEM(f[FIELD_DISPLACEMENT]),
-             MEM(f[FIELD_VEL_HALF]), MEM(f[FIELD_MASS]), MEM(f[FIELD_ENERGY]), MEM(f[FIELD_RHO]),
-             MEM(f[FIELD_FLAGS]), MEM(f[FIELD_MATERIAL]), MEM(f[FIELD_ID]), MEM(s->materials),
-             MEM(s->run_params), real4_value(s, &a_load, load), MEM(s->partials), INT(s->n));
+             MEM(f[FIELD_VEL_HALF]), MEM(f[FIELD_XSPH_VELOCITY]), MEM(f[FIELD_MASS]),
+             MEM(f[FIELD_ENERGY]), MEM(f[FIELD_RHO]), MEM(f[FIELD_FLAGS]), MEM(f[FIELD_MATERIAL]),
+             MEM(f[FIELD_ID]), MEM(s->materials), MEM(s->run_params), real4_value(s, &a_load, load),
+             MEM(s->partials), INT(s->n));
     launch(s, s->k.reduce, (size_t)s->reduce_groups * REDUCE_GROUP_SIZE, REDUCE_GROUP_SIZE);
     const size_t count = (size_t)s->reduce_groups * SPH_RED_SLOTS;
     double values[64 * SPH_RED_SLOTS];

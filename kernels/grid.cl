@@ -107,8 +107,8 @@ __kernel void grid_cell_ranges(__global const ulong *restrict sort_keys,
 }
 
 /* Gathers one field into sorted order: out[i] = in[slot of sorted key i].
- * After the gather the host swaps the buffers; the key's low half is then
- * rewritten to i so the keys stay valid for the sorted layout. */
+ * After the gather the host swaps the buffers; from then on only the high
+ * half of the keys (the cell) is read. */
 #define GRID_GATHER(NAME, TYPE)                                                                    \
     __kernel void NAME(__global const ulong *restrict sort_keys, __global const TYPE *restrict in, \
                        __global TYPE *restrict out, const int n)                                   \

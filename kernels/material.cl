@@ -166,7 +166,6 @@ __kernel void material_update(
         for (int b = 0; b < 3; ++b) {
             power_deviatoric += s[a][b] * d[a][b];
             s[a][b] += dt * rate[a][b];
-            power_deviatoric += s[a][b] * d[a][b];
         }
 #ifdef SPH_PLASTICITY
     if (m->strength == SPH_STRENGTH_PERFECTLY_PLASTIC) {
@@ -182,6 +181,12 @@ __kernel void material_update(
 #else
     (void)plastic_strain;
 #endif
+    /* the second half of the mid-step power, with the stress after the
+     * return (plastic work heats; in plane stress the return also scales
+     * S_zz, so sigma_zz = 0 holds only while the material is elastic) */
+    for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b)
+            power_deviatoric += s[a][b] * d[a][b];
     const real change = density_change[i] + dt * density_rate[i];
     const real density = m->density + change;
     const real e_trial = energy[i] + dt * energy_rate[i];

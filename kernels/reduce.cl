@@ -5,8 +5,8 @@
  *
  * Velocities are the half-step ones the positions moved with, so the load
  * power times dt is the exact work of the step's load.
- * reads: pos, pos_at_sort, displacement, vel_half, mass, energy, rho, flags, material, id;
- * writes: partials.
+ * reads: pos, pos_at_sort, displacement, vel_half, xsph_velocity, mass, energy, rho, flags,
+ * material, id; writes: partials.
  */
 static inline bool slot_is_max(int slot)
 {
@@ -16,10 +16,10 @@ static inline bool slot_is_max(int slot)
 __kernel __attribute__((reqd_work_group_size(REDUCE_WG, 1, 1))) void
 reduce_step(__global const vec *restrict pos, __global const vec *restrict pos_at_sort,
             __global const vec *restrict displacement, __global const vec *restrict vel_half,
-            __global const real *restrict mass, __global const real *restrict energy,
-            __global const real *restrict rho, __global const int *restrict flags,
-            __global const int *restrict material, __global const int *restrict id,
-            __constant const struct sph_material *materials,
+            __global const vec *restrict xsph_velocity, __global const real *restrict mass,
+            __global const real *restrict energy, __global const real *restrict rho,
+            __global const int *restrict flags, __global const int *restrict material,
+            __global const int *restrict id, __constant const struct sph_material *materials,
             __constant const struct sph_run_params *run, const real4 load_force,
             __global real *restrict partials, const int n)
 {
@@ -43,7 +43,7 @@ reduce_step(__global const vec *restrict pos, __global const vec *restrict pos_a
         if (bad)
             mine[SPH_RED_BAD_INDEX] = fmin(mine[SPH_RED_BAD_INDEX], (real)id[i]);
         if (flag & SPH_FLAG_LOADED)
-            mine[SPH_RED_LOAD_POWER] += dot(f, v);
+            mine[SPH_RED_LOAD_POWER] += dot(f, v + xsph_velocity[i]); /* as the drift moves it */
         mine[SPH_RED_KINETIC] += (real)0.5 * mass[i] * dot(v, v);
         mine[SPH_RED_INTERNAL] += mass[i] * energy[i];
         if (flag & SPH_FLAG_PROBE) {
