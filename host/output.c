@@ -238,7 +238,9 @@ int output_summary(struct output *o, const struct run_summary *s)
         json_number(f, "error_final", s->reference_error_final, 0);
         json_number(f, "e_av", s->reference_e_av, 0);
     }
-    fprintf(f, "  \"healthy\": %s\n}\n", strcmp(s->status, "completed") == 0 ? "true" : "false");
+    const int healthy =
+        strcmp(s->status, "completed") == 0 && !(s->max_neighbour_loss_fraction > 0);
+    fprintf(f, "  \"healthy\": %s\n}\n", healthy ? "true" : "false");
     return fclose(f) != 0;
 }
 

@@ -43,7 +43,8 @@ struct run_summary {
     int has_reference;
     double reference, reference_error_final, reference_e_av;
     double energy_drift; /* |E_total(end) - E_total(0)| / max(external work, kinetic, internal) */
-    double max_neighbour_loss_fraction; /* particles that lost > half their initial neighbours */
+    double max_neighbour_loss_fraction; /* particles that lost over a third of their initial
+                                           neighbours, largest over the snapshots */
 };
 
 /* Creates the folder (and parents), writes case.resolved.yaml and opens

@@ -89,7 +89,7 @@ static void measure_integrity(struct loop *L)
     solver_neighbour_counts(L->s, L->neighbours);
     int lost = 0;
     for (int p = 0; p < L->s->n; ++p)
-        lost += 2 * L->neighbours[p] < L->initial_neighbours[p];
+        lost += 3 * L->neighbours[p] < 2 * L->initial_neighbours[p]; /* lost over a third */
     L->max_neighbour_loss = fmax(L->max_neighbour_loss, (double)lost / L->s->n);
 }
 
@@ -220,6 +220,9 @@ static void finish_summary(struct loop *L, struct run_summary *sum)
 static void print_summary_line(const struct run_summary *sum, const char *folder)
 {
     printf("%s: %s", sum->case_name, sum->status);
+    if (sum->max_neighbour_loss_fraction > 0)
+        printf(" (not whole: %.2f%% of particles lost over a third of their neighbours)",
+               100 * sum->max_neighbour_loss_fraction);
     if (sum->has_probe) {
         printf(" | %s final %.4f mm, mean %.4f mm", sum->probe_name, 1e3 * sum->probe_final,
                1e3 * sum->probe_mean);
