@@ -42,7 +42,8 @@ struct run_summary {
     double probe_final, probe_mean;
     int has_reference;
     double reference, reference_error_final, reference_e_av;
-    double energy_drift; /* |E_total(end) - E_total(0)| / max(external work, kinetic, internal) */
+    double energy_drift; /* max over steps of |E_total(t) - E_total(0)| / max(external work,
+                            kinetic + internal) */
     double max_neighbour_loss_fraction; /* particles that lost over a third of their initial
                                            neighbours, largest over the snapshots */
 };

@@ -29,7 +29,7 @@ struct loop {
     double t, dt, dt_cfl, dt_prev, dt_initial, external_work;
     long step;
     double next_history, next_snapshot, next_progress_wall, wall_start;
-    double energy_start, energy_scale;
+    double energy_start, energy_scale, energy_excursion;
     double probe, window_sum, window_error_sum;
     long window_steps;
     int *initial_neighbours, *neighbours;
@@ -184,6 +184,7 @@ static int one_step(struct loop *L)
     L->external_work += L->red.load_power * L->dt; /* F(t^n) . v^(n+1/2) dt */
     L->energy_scale =
         fmax(L->energy_scale, fmax(fabs(L->external_work), L->red.kinetic + fabs(L->red.internal)));
+    L->energy_excursion = fmax(L->energy_excursion, fabs(total_energy(L) - L->energy_start));
     track_probe(L);
     return check_health(L);
 }
@@ -212,8 +213,7 @@ static void finish_summary(struct loop *L, struct run_summary *sum)
     sum->reference = L->c->reference.value;
     sum->reference_error_final = fabs(L->probe - sum->reference) / fabs(sum->reference);
     sum->reference_e_av = L->window_steps ? L->window_error_sum / L->window_steps : NAN;
-    sum->energy_drift =
-        L->energy_scale > 0 ? fabs(total_energy(L) - L->energy_start) / L->energy_scale : 0;
+    sum->energy_drift = L->energy_scale > 0 ? L->energy_excursion / L->energy_scale : 0;
     sum->max_neighbour_loss_fraction = L->max_neighbour_loss;
 }
 
@@ -317,7 +317,7 @@ int run_case(const struct run_options *opt)
     }
     char options[512];
     solver_build_options(c, options, sizeof options);
-    if (device_open(opt->device, opt->profile, &dev, error, sizeof error)) {
+    if (device_open(opt->device, 0, &dev, error, sizeof error)) {
         fprintf(stderr, "sph: %s\n", error);
         scene_free(&scene);
         free(c);

@@ -9,7 +9,6 @@ struct run_options {
     int set_count;
     char **sets; /* "key.path=value" overrides */
     int quiet;
-    int profile; /* OpenCL queue with profiling (for the benchmark, not yet exposed) */
 };
 
 /* Returns the process exit status: 0 completed, 1 bad input or output

@@ -20,9 +20,11 @@ double sph_kernel_w_host(int kernel, int dim, double r, double h);
  * precision; see kernels/common.cl). */
 enum element_kind { ELEM_REAL, ELEM_INT, ELEM_VEC, ELEM_SYMT, ELEM_FULLT, ELEM_COUNT };
 
-/* Per-particle fields. Those before FIELD_PERSISTENT_END carry state from one
- * step to the next and are reordered by every sort; the rest are rates and
- * scratch, rewritten each step. */
+/* Per-particle fields. Those before FIELD_PERSISTENT_END are read by some
+ * stage of a step before that step writes them (the state, and the derived
+ * fields rho, pressure, artificial stress and CSPH correction that one step
+ * leaves for the next step's pass 2), so every sort reorders them; the rest
+ * are written before they are read within a step. */
 enum field {
     FIELD_POS,
     FIELD_POS0,
@@ -37,14 +39,14 @@ enum field {
     FIELD_FLAGS,
     FIELD_MATERIAL,
     FIELD_ID,
-    FIELD_PERSISTENT_END,
-    FIELD_POS_AT_SORT = FIELD_PERSISTENT_END,
     FIELD_RHO,
-    FIELD_VELOCITY_GRADIENT,
-    FIELD_DENSITY_RATE,
-    FIELD_CSPH,
     FIELD_PRESSURE,
     FIELD_ARTIFICIAL_STRESS,
+    FIELD_CSPH,
+    FIELD_PERSISTENT_END,
+    FIELD_POS_AT_SORT = FIELD_PERSISTENT_END,
+    FIELD_VELOCITY_GRADIENT,
+    FIELD_DENSITY_RATE,
     FIELD_ACCELERATION,
     FIELD_ENERGY_RATE,
     FIELD_XSPH_VELOCITY,

@@ -228,11 +228,16 @@ int solver_create_buffers(struct solver *s, const struct sph_scene *scene, char 
         ids[p] = p;
     upload_ints(s, s->field[FIELD_ID], ids, s->n);
     free(ids);
-    for (int f = 0; f < FIELD_COUNT; ++f)
-        if (f != FIELD_RHO &&
-            (f == FIELD_DISPLACEMENT || f == FIELD_DENSITY_CHANGE || f == FIELD_ENERGY ||
-             f == FIELD_STRESS || f == FIELD_PLASTIC_STRAIN || f > FIELD_POS_AT_SORT))
+    static const enum field uploaded[] = {
+        FIELD_POS, FIELD_POS0, FIELD_POS_AT_SORT, FIELD_VEL,      FIELD_VEL_HALF,
+        FIELD_RHO, FIELD_MASS, FIELD_FLAGS,       FIELD_MATERIAL, FIELD_ID};
+    for (int f = 0; f < FIELD_COUNT; ++f) {
+        int is_uploaded = 0;
+        for (size_t k = 0; k < sizeof uploaded / sizeof uploaded[0]; ++k)
+            is_uploaded |= uploaded[k] == (enum field)f;
+        if (!is_uploaded)
             zero_buffer(s, s->field[f], s->element_size[field_table[f].kind] * (size_t)s->n);
+    }
     return 0;
 }
 

@@ -106,7 +106,7 @@ static void create_kernels(struct solver *s)
     k->gather[ELEM_INT] = make_kernel(s, "grid_gather_int");
     k->gather[ELEM_VEC] = make_kernel(s, "grid_gather_vec");
     k->gather[ELEM_SYMT] = make_kernel(s, "grid_gather_symt");
-    k->gather[ELEM_FULLT] = NULL; /* full tensors are scratch, never reordered */
+    k->gather[ELEM_FULLT] = make_kernel(s, "grid_gather_fullt");
     k->pass1 = make_kernel(s, "pass1_velocity_gradient");
     k->material = make_kernel(s, "material_update");
     k->pass2 = make_kernel(s, "pass2_momentum_energy");
@@ -316,9 +316,6 @@ static void reorder_fields(struct solver *s)
     launch(s, s->k.mark_sorted, (size_t)s->n, 0);
 }
 
-static void pass1(struct solver *s);
-static void material(struct solver *s, double dt);
-
 int solver_sort(struct solver *s, char *error, size_t error_size)
 {
     if (layout_grid(s, error, error_size))
@@ -326,11 +323,6 @@ int solver_sort(struct solver *s, char *error, size_t error_size)
     sort_keys(s);
     cell_ranges(s);
     reorder_fields(s);
-    /* the CSPH correction, pressure and artificial stress are derived from
-     * the reordered state and read by the next pass 2: recompute them in the
-     * new order (material with dt = 0 changes nothing else) */
-    pass1(s);
-    material(s, 0.0);
     return 0;
 }
 

@@ -121,6 +121,7 @@ GRID_GATHER(grid_gather_real, real)
 GRID_GATHER(grid_gather_int, int)
 GRID_GATHER(grid_gather_vec, vec)
 GRID_GATHER(grid_gather_symt, symt)
+GRID_GATHER(grid_gather_fullt, fullt)
 
 /* reads pos; writes pos_at_sort (the reference for "moved since sort"). */
 __kernel void grid_mark_sorted(__global const vec *restrict pos, __global vec *restrict pos_at_sort,

@@ -64,6 +64,9 @@ __kernel void pass1_velocity_gradient(
     const real h = run->h;
     const real support2 = run->support * run->support;
     const vec xi = pos[i], vi = vel[i];
+#ifndef SPH_CSPH
+    (void)csph;
+#endif
     real grad_v[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
 #ifdef SPH_CSPH
     real moment[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
@@ -100,9 +103,6 @@ __kernel void pass1_velocity_gradient(
         for (int b = 0; b < 3; ++b)
             grad_v[a][b] = corrected[a][b];
     csph[i] = fullt_store(c);
-#else
-        (void)
-    csph;
 #endif
     real divergence = grad_v[0][0] + grad_v[1][1] + grad_v[2][2];
 #ifdef SPH_PLANE_STRESS

@@ -23,15 +23,12 @@
  * writes: acceleration, energy_rate, xsph_velocity.
  */
 
-static inline void total_stress_over_rho(real p, symt dev, real density, real out[3][3])
+/* sigma = S - p I */
+static inline void total_stress(real p, symt dev, real out[3][3])
 {
     symt_load(dev, out);
-    const real inv_rho = (real)1 / density;
-    for (int a = 0; a < 3; ++a) {
+    for (int a = 0; a < 3; ++a)
         out[a][a] -= p;
-        for (int b = 0; b < 3; ++b)
-            out[a][b] *= inv_rho;
-    }
 }
 
 /* out = m . v over the first SPH_DIM components */
@@ -65,10 +62,19 @@ static inline void fullt_transpose_times(fullt f, real v[3], real out[3])
 static inline void stress_times(real p, symt dev, real v[3], real out[3])
 {
     real m[3][3];
-    symt_load(dev, m);
-    for (int a = 0; a < 3; ++a)
-        m[a][a] -= p;
+    total_stress(p, dev, m);
     matrix_times(m, v, out);
+}
+
+/* Monaghan's (2000) artificial-stress weight (W(r) / W(dx))^n */
+static inline real artificial_stress_weight(real r, real h,
+                                            __constant const struct sph_run_params *run)
+{
+    const real f = kernel_w(r, h) * run->as_inv_w_dx;
+    real fn = 1;
+    for (int k = 0; k < run->as_exponent; ++k)
+        fn *= f;
+    return fn;
 }
 
 static inline real artificial_viscosity(vec vij, vec xij, real r2, real h, real c_mean,
@@ -101,8 +107,11 @@ pass2_momentum_energy(__global const vec *restrict pos, __global const vec *rest
     const vec xi = pos[i], vi = vel[i];
     const real rho_i = rho[i];
     const real c_i = materials[material[i]].sound_speed;
-    real sigma_i[3][3];
-    total_stress_over_rho(pressure[i], deviatoric_stress[i], rho_i, sigma_i);
+    real sigma_i[3][3]; /* sigma_i / rho_i */
+    total_stress(pressure[i], deviatoric_stress[i], sigma_i);
+    for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b)
+            sigma_i[a][b] /= rho_i;
 #ifdef SPH_ARTIFICIAL_STRESS
     real r_i[3][3];
     symt_load(artificial_stress[i], r_i);
@@ -155,17 +164,10 @@ pass2_momentum_energy(__global const vec *restrict pos, __global const vec *rest
                  * undeformed lattice and for pairs that separate, so the term
                  * acts against clumping only and adds no traction at free
                  * surfaces (weight: lattice keeps Monaghan's original) */
-                const real f = kernel_w(r, h) * run->as_inv_w_dx;
-                real fn = 1;
-                for (int k = 0; k < run->as_exponent; ++k)
-                    fn *= f;
+                real fn = artificial_stress_weight(r, h, run);
 #ifndef SPH_AS_LATTICE_WEIGHT
-                const vec x0ij = pos0[i] - pos0[j];
-                const real f0 = kernel_w(length(x0ij), h) * run->as_inv_w_dx;
-                real f0n = 1;
-                for (int k = 0; k < run->as_exponent; ++k)
-                    f0n *= f0;
-                fn = fmax(fn - f0n, (real)0);
+                fn =
+                    fmax(fn - artificial_stress_weight(length(pos0[i] - pos0[j]), h, run), (real)0);
 #endif
                 if (fn > 0) {
                     real r_j[3][3], rg[3];
