@@ -106,6 +106,7 @@ static const char *const quantity_names[] = {"displacement_x", "displacement_y",
                                              NULL};
 static const char *const precision_names[] = {"float", "double", NULL};
 static const char *const as_weight_names[] = {"relative", "lattice", NULL};
+static const char *const formulation_names[] = {"updated_lagrangian", "total_lagrangian", NULL};
 static const char *const ref_nouns[] = {"material", "body", "group"};
 
 /* ---- errors ------------------------------------------------------------ */
@@ -779,6 +780,17 @@ static int check_reference(struct ctx *x, const struct frame *fr, void *base)
     return 0;
 }
 
+static int check_numerics(struct ctx *x, const struct frame *fr, void *base)
+{
+    const struct case_numerics *n = base;
+    if (n->total_lagrangian && n->as_epsilon > 0)
+        return fail(x, line_of(fr, "artificial_stress"), subkey(x, "artificial_stress"),
+                    "expected epsilon 0 with formulation total_lagrangian (it has no tensile "
+                    "instability and no artificial stress), got epsilon %g",
+                    n->as_epsilon);
+    return 0;
+}
+
 /* The file's basename without its extension, made a valid name. */
 static void default_name(const char *path, char *name, size_t size)
 {
@@ -916,6 +928,8 @@ static const struct field numerics_fields[] = {
     MAP("artificial_stress", 0, 0, 0, stress_schema),
     NUMBER("xsph", struct case_numerics, xsph_epsilon, 0, R_CLOSED, 0, 1, 0, NULL),
     BOOL("csph", struct case_numerics, csph),
+    ENUM("formulation", struct case_numerics, total_lagrangian, 0, 0, formulation_names, NULL),
+    NUMBER("hourglass", struct case_numerics, hourglass, 0, R_NONNEG, 0, 0, 10, NULL),
     NUMBER("cfl", struct case_numerics, cfl, 0, R_LEFT_OPEN, 0, 1, 0.3, NULL),
     NUMBER("end_time", struct case_numerics, end_time, F_REQUIRED, R_POSITIVE, 0, 0, 0, "s"),
     NUMBER("damping", struct case_numerics, damping, 0, R_NONNEG, 0, 0, 0, "1/s"),
@@ -943,7 +957,8 @@ static const struct schema material_schema =
     SCHEMA(material_fields, struct case_material, check_material);
 static const struct schema body_schema = SCHEMA(body_fields, struct case_body, check_body);
 static const struct schema group_schema = SCHEMA(group_fields, struct case_group, check_group);
-static const struct schema numerics_schema = SCHEMA(numerics_fields, struct case_numerics, NULL);
+static const struct schema numerics_schema =
+    SCHEMA(numerics_fields, struct case_numerics, check_numerics);
 static const struct schema output_schema = SCHEMA(output_fields, struct case_output, check_output);
 static const struct schema probe_schema = SCHEMA(probe_fields, struct case_probe, check_probe);
 static const struct schema reference_schema =

@@ -160,7 +160,8 @@ static double total_energy(const struct loop *L)
 
 static int one_step(struct loop *L)
 {
-    if (L->red.max_moved >= 0.5 * L->s->skin * L->s->run.support) {
+    /* the total Lagrangian form keeps the reference neighbours: one sort */
+    if (!L->s->total_lagrangian && L->red.max_moved >= 0.5 * L->s->skin * L->s->run.support) {
         char error[512];
         if (solver_sort(L->s, error, sizeof error)) {
             snprintf(L->message, sizeof L->message, "unstable at step %ld, t = %.6e s: %s", L->step,

@@ -43,6 +43,8 @@ enum field {
     FIELD_PRESSURE,
     FIELD_ARTIFICIAL_STRESS,
     FIELD_CSPH,
+    FIELD_DEFORMATION_GRADIENT, /* total Lagrangian only */
+    FIELD_FIRST_PIOLA,          /* total Lagrangian only: P C^T */
     FIELD_PERSISTENT_END,
     FIELD_POS_AT_SORT = FIELD_PERSISTENT_END,
     FIELD_VELOCITY_GRADIENT,
@@ -71,6 +73,7 @@ struct kernels {
     cl_kernel cell_keys, bitonic_step, fill_int, cell_ranges, mark_sorted, bounds;
     cl_kernel gather[ELEM_COUNT];
     cl_kernel pass1, material, pass2, kick, drift, reduce, neighbour_count;
+    cl_kernel tl_correction, tl_deformation, tl_first_piola, tl_momentum;
 };
 
 /* What the per-step reduction returns, combined in double. */
@@ -85,6 +88,7 @@ struct reduction {
 struct solver {
     struct sph_device *dev;
     int dim, n, padded_n, double_precision;
+    int total_lagrangian; /* numerics.formulation; the grid is then sorted once */
     size_t element_size[ELEM_COUNT];
     cl_mem field[FIELD_COUNT];
     cl_mem spare[ELEM_COUNT];
@@ -106,6 +110,9 @@ void solver_build_options(const struct sph_case *c, char *options, size_t size);
 int solver_create(struct solver *s, struct sph_device *dev, const struct sph_case *c,
                   const struct sph_scene *scene, char *error, size_t error_size);
 void solver_release(struct solver *s);
+
+/* Whether the formulation uses field f (others get a token buffer). */
+int solver_field_used(const struct solver *s, enum field f);
 
 /* Bytes of device memory per particle, over all per-particle buffers. */
 size_t solver_bytes_per_particle(const struct solver *s);

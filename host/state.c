@@ -25,6 +25,8 @@ const struct field_info field_table[FIELD_COUNT] = {
     [FIELD_VELOCITY_GRADIENT] = {"velocity_gradient", ELEM_FULLT},
     [FIELD_DENSITY_RATE] = {"density_rate", ELEM_REAL},
     [FIELD_CSPH] = {"csph_correction", ELEM_FULLT},
+    [FIELD_DEFORMATION_GRADIENT] = {"deformation_gradient", ELEM_FULLT},
+    [FIELD_FIRST_PIOLA] = {"first_piola_corrected", ELEM_FULLT},
     [FIELD_PRESSURE] = {"pressure", ELEM_REAL},
     [FIELD_ARTIFICIAL_STRESS] = {"artificial_stress", ELEM_SYMT},
     [FIELD_ACCELERATION] = {"acceleration", ELEM_VEC},
@@ -38,8 +40,8 @@ void solver_build_options(const struct sph_case *c, char *options, size_t size)
     int plastic = 0;
     for (int m = 0; m < c->material_count; ++m)
         plastic |= c->materials[m].strength != SPH_STRENGTH_ELASTIC;
-    snprintf(options, size, "-cl-std=CL1.2 -DSPH_DIM=%d -DSPH_KERNEL=%d%s%s%s%s%s%s", c->dimension,
-             (int)num->kernel,
+    snprintf(options, size, "-cl-std=CL1.2 -DSPH_DIM=%d -DSPH_KERNEL=%d%s%s%s%s%s%s%s",
+             c->dimension, (int)num->kernel,
              c->dimension == 2 && c->plane == SPH_PLANE_STRESS ? " -DSPH_PLANE_STRESS" : "",
              num->csph ? " -DSPH_CSPH" : "",
              num->as_epsilon > 0
@@ -47,14 +49,27 @@ void solver_build_options(const struct sph_case *c, char *options, size_t size)
                                            : " -DSPH_ARTIFICIAL_STRESS")
                  : "",
              num->xsph_epsilon > 0 ? " -DSPH_XSPH" : "", plastic ? " -DSPH_PLASTICITY" : "",
-             num->double_precision ? " -DSPH_DOUBLE" : "");
+             num->double_precision ? " -DSPH_DOUBLE" : "",
+             num->total_lagrangian ? " -DSPH_TOTAL_LAGRANGIAN" : "");
+}
+
+int solver_field_used(const struct solver *s, enum field f)
+{
+    if (f == FIELD_DEFORMATION_GRADIENT || f == FIELD_FIRST_PIOLA)
+        return s->total_lagrangian;
+    return 1;
+}
+
+static size_t field_bytes(const struct solver *s, enum field f)
+{
+    return solver_field_used(s, f) ? s->element_size[field_table[f].kind] * (size_t)s->n : 0;
 }
 
 size_t solver_bytes_per_particle(const struct solver *s)
 {
     size_t bytes = 0;
     for (int f = 0; f < FIELD_COUNT; ++f)
-        bytes += s->element_size[field_table[f].kind];
+        bytes += solver_field_used(s, (enum field)f) ? s->element_size[field_table[f].kind] : 0;
     for (int e = 0; e < ELEM_COUNT; ++e)
         bytes += s->element_size[e];     /* the gather spares */
     return bytes + 2 * sizeof(cl_ulong); /* sort keys, padded to a power of two */
@@ -162,20 +177,20 @@ static void upload_materials(struct solver *s, const struct sph_case *c)
 
 static void upload_run_params(struct solver *s)
 {
-    const double v[10] = {
-        s->run.h,          s->run.support,       s->run.av_alpha,     s->run.av_beta,
-        s->run.as_epsilon, s->run.as_inv_w_dx,   s->run.xsph_epsilon, s->run.damping,
-        s->run.thickness,  s->run.velocity_limit};
+    const double v[11] = {
+        s->run.h,          s->run.support,        s->run.av_alpha,     s->run.av_beta,
+        s->run.as_epsilon, s->run.as_inv_w_dx,    s->run.xsph_epsilon, s->run.damping,
+        s->run.thickness,  s->run.velocity_limit, s->run.hourglass};
     if (!s->double_precision) {
         CL_CHECK(clEnqueueWriteBuffer(s->dev->queue, s->run_params, CL_TRUE, 0, sizeof s->run,
                                       &s->run, 0, NULL, NULL));
         return;
     }
     struct {
-        cl_double v[10];
+        cl_double v[11];
         cl_int as_exponent, material_count;
     } wide;
-    for (int k = 0; k < 10; ++k)
+    for (int k = 0; k < 11; ++k)
         wide.v[k] = v[k];
     wide.as_exponent = s->run.as_exponent;
     wide.material_count = s->run.material_count;
@@ -205,7 +220,7 @@ int solver_create_buffers(struct solver *s, const struct sph_scene *scene, char 
         return 1;
     }
     for (int f = 0; f < FIELD_COUNT; ++f)
-        s->field[f] = create_buffer(s, s->element_size[field_table[f].kind] * (size_t)s->n);
+        s->field[f] = create_buffer(s, field_bytes(s, (enum field)f));
     for (int e = 0; e < ELEM_COUNT; ++e)
         s->spare[e] = create_buffer(s, s->element_size[e] * (size_t)s->n);
     s->sort_keys = create_buffer(s, sizeof(cl_ulong) * (size_t)s->padded_n);
@@ -235,8 +250,8 @@ int solver_create_buffers(struct solver *s, const struct sph_scene *scene, char 
         int is_uploaded = 0;
         for (size_t k = 0; k < sizeof uploaded / sizeof uploaded[0]; ++k)
             is_uploaded |= uploaded[k] == (enum field)f;
-        if (!is_uploaded)
-            zero_buffer(s, s->field[f], s->element_size[field_table[f].kind] * (size_t)s->n);
+        if (!is_uploaded && field_bytes(s, (enum field)f))
+            zero_buffer(s, s->field[f], field_bytes(s, (enum field)f));
     }
     return 0;
 }

@@ -114,14 +114,20 @@ static void create_kernels(struct solver *s)
     k->drift = make_kernel(s, "integrate_drift");
     k->reduce = make_kernel(s, "reduce_step");
     k->neighbour_count = make_kernel(s, "health_neighbour_count");
+    k->tl_correction = make_kernel(s, "tl_correction");
+    k->tl_deformation = make_kernel(s, "tl_deformation");
+    k->tl_first_piola = make_kernel(s, "tl_first_piola");
+    k->tl_momentum = make_kernel(s, "tl_momentum");
 }
 
 static void release_kernels(struct solver *s)
 {
-    cl_kernel *all[] = {&s->k.cell_keys,      &s->k.bitonic_step, &s->k.fill_int, &s->k.cell_ranges,
-                        &s->k.mark_sorted,    &s->k.bounds,       &s->k.pass1,    &s->k.material,
-                        &s->k.pass2,          &s->k.kick,         &s->k.drift,    &s->k.reduce,
-                        &s->k.neighbour_count};
+    cl_kernel *all[] = {
+        &s->k.cell_keys,       &s->k.bitonic_step,  &s->k.fill_int,       &s->k.cell_ranges,
+        &s->k.mark_sorted,     &s->k.bounds,        &s->k.pass1,          &s->k.material,
+        &s->k.pass2,           &s->k.kick,          &s->k.drift,          &s->k.reduce,
+        &s->k.neighbour_count, &s->k.tl_correction, &s->k.tl_deformation, &s->k.tl_first_piola,
+        &s->k.tl_momentum};
     for (size_t i = 0; i < sizeof all / sizeof all[0]; ++i)
         if (*all[i])
             clReleaseKernel(*all[i]);
@@ -159,6 +165,7 @@ static void fill_run_params(struct solver *s, const struct sph_case *c)
      * far above any physical particle speed of these cases, and reached
      * within a few steps by a runaway instability. */
     s->run.velocity_limit = (real)(10.0 * c_max + 2.0 * v0);
+    s->run.hourglass = (real)num->hourglass;
     s->run.as_exponent = num->as_exponent;
     s->run.material_count = c->material_count;
 }
@@ -171,6 +178,7 @@ int solver_create(struct solver *s, struct sph_device *dev, const struct sph_cas
     s->dim = c->dimension;
     s->n = scene->count;
     s->double_precision = c->numerics.double_precision;
+    s->total_lagrangian = c->numerics.total_lagrangian;
     s->padded_n = LOCAL_SIZE; /* the bitonic launch covers at least one work-group */
     while (s->padded_n < s->n)
         s->padded_n <<= 1;
@@ -303,6 +311,8 @@ static void cell_ranges(struct solver *s)
 static void reorder_fields(struct solver *s)
 {
     for (int f = 0; f < FIELD_PERSISTENT_END; ++f) {
+        if (!solver_field_used(s, (enum field)f))
+            continue;
         const enum element_kind kind = field_table[f].kind;
         SET_ARGS(s->k.gather[kind], MEM(s->sort_keys), MEM(s->field[f]), MEM(s->spare[kind]),
                  INT(s->n));
@@ -366,10 +376,69 @@ static void pass2(struct solver *s)
     launch(s, s->k.pass2, (size_t)s->n, 0);
 }
 
+/* Total Lagrangian passes (kernels/total_lagrangian.cl). */
+static void tl_correction(struct solver *s)
+{
+    cl_mem *f = s->field;
+    const cl_int4 dims = {{s->grid.dims[0], s->grid.dims[1], s->grid.dims[2], 0}};
+    SET_ARGS(s->k.tl_correction, MEM(f[FIELD_POS0]), MEM(f[FIELD_MASS]), MEM(f[FIELD_MATERIAL]),
+             GRID_ARG_LIST(s, dims), MEM(s->materials), MEM(s->run_params), MEM(f[FIELD_CSPH]),
+             INT(s->n));
+    launch(s, s->k.tl_correction, (size_t)s->n, 0);
+}
+
+static void tl_deformation(struct solver *s, double dt)
+{
+    cl_mem *f = s->field;
+    const cl_int4 dims = {{s->grid.dims[0], s->grid.dims[1], s->grid.dims[2], 0}};
+    struct real_arg a_dt;
+    SET_ARGS(s->k.tl_deformation, MEM(f[FIELD_POS]), MEM(f[FIELD_POS0]), MEM(f[FIELD_VEL_HALF]),
+             MEM(f[FIELD_XSPH_VELOCITY]), MEM(f[FIELD_MASS]), MEM(f[FIELD_RHO]),
+             MEM(f[FIELD_MATERIAL]), GRID_ARG_LIST(s, dims), MEM(s->materials), MEM(s->run_params),
+             MEM(f[FIELD_CSPH]), real_value(s, &a_dt, dt), MEM(f[FIELD_VELOCITY_GRADIENT]),
+             MEM(f[FIELD_DENSITY_RATE]), MEM(f[FIELD_DEFORMATION_GRADIENT]), INT(s->n));
+    launch(s, s->k.tl_deformation, (size_t)s->n, 0);
+}
+
+static void tl_first_piola(struct solver *s)
+{
+    cl_mem *f = s->field;
+    SET_ARGS(s->k.tl_first_piola, MEM(f[FIELD_RHO]), MEM(f[FIELD_PRESSURE]), MEM(f[FIELD_STRESS]),
+             MEM(f[FIELD_DEFORMATION_GRADIENT]), MEM(f[FIELD_CSPH]), MEM(f[FIELD_MATERIAL]),
+             MEM(s->materials), MEM(f[FIELD_FIRST_PIOLA]), INT(s->n));
+    launch(s, s->k.tl_first_piola, (size_t)s->n, 0);
+}
+
+static void tl_momentum(struct solver *s)
+{
+    cl_mem *f = s->field;
+    const cl_int4 dims = {{s->grid.dims[0], s->grid.dims[1], s->grid.dims[2], 0}};
+    SET_ARGS(s->k.tl_momentum, MEM(f[FIELD_POS]), MEM(f[FIELD_POS0]), MEM(f[FIELD_VEL]),
+             MEM(f[FIELD_RHO]), MEM(f[FIELD_MASS]), MEM(f[FIELD_FIRST_PIOLA]),
+             MEM(f[FIELD_DEFORMATION_GRADIENT]), MEM(f[FIELD_MATERIAL]), GRID_ARG_LIST(s, dims),
+             MEM(s->materials), MEM(s->run_params), MEM(f[FIELD_ACCELERATION]),
+             MEM(f[FIELD_ENERGY_RATE]), MEM(f[FIELD_XSPH_VELOCITY]), INT(s->n));
+    launch(s, s->k.tl_momentum, (size_t)s->n, 0);
+}
+
+/* Pass 1 and the stress-derived fields of the updated or total form. */
+static void deformation_and_material(struct solver *s, double dt)
+{
+    if (s->total_lagrangian) {
+        tl_deformation(s, dt);
+        material(s, dt);
+        tl_first_piola(s);
+    } else {
+        pass1(s);
+        material(s, dt);
+    }
+}
+
 void solver_prime(struct solver *s)
 {
-    pass1(s);
-    material(s, 0.0);
+    if (s->total_lagrangian)
+        tl_correction(s);
+    deformation_and_material(s, 0.0);
 }
 
 void solver_step(struct solver *s, double dt, double dt_prev, const double load[3])
@@ -377,13 +446,15 @@ void solver_step(struct solver *s, double dt, double dt_prev, const double load[
     cl_mem *f = s->field;
     struct real_arg a_dt, a_prev;
     struct real4_arg a_load;
-    pass2(s);
+    if (s->total_lagrangian)
+        tl_momentum(s);
+    else
+        pass2(s);
     SET_ARGS(s->k.kick, MEM(f[FIELD_VEL]), MEM(f[FIELD_VEL_HALF]), MEM(f[FIELD_ACCELERATION]),
              MEM(f[FIELD_MASS]), MEM(f[FIELD_FLAGS]), MEM(s->run_params), real_value(s, &a_dt, dt),
              real_value(s, &a_prev, dt_prev), real4_value(s, &a_load, load), INT(s->n));
     launch(s, s->k.kick, (size_t)s->n, 0);
-    pass1(s);
-    material(s, dt);
+    deformation_and_material(s, dt);
     SET_ARGS(s->k.drift, MEM(f[FIELD_POS]), MEM(f[FIELD_DISPLACEMENT]), MEM(f[FIELD_POS0]),
              MEM(f[FIELD_VEL_HALF]), MEM(f[FIELD_XSPH_VELOCITY]), MEM(f[FIELD_FLAGS]),
              real_value(s, &a_dt, dt), INT(s->n));

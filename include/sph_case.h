@@ -85,6 +85,8 @@ struct case_numerics {
     int as_lattice_weight;       /* weight: 0 relative (default), 1 lattice (Monaghan 2000) */
     double xsph_epsilon;         /* default 0 (off) */
     int csph;                    /* default 0 */
+    int total_lagrangian;        /* formulation: 0 updated_lagrangian (default), 1 total */
+    double hourglass;            /* total Lagrangian hourglass control coefficient, default 0 */
     double cfl;                  /* default 0.3 */
     double end_time;             /* s, required */
     double damping;              /* 1/s, default 0 */

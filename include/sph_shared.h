@@ -85,6 +85,7 @@ struct sph_run_params {
     real damping;        /* velocity damping for quasi-static runs, 1/s */
     real thickness;      /* out-of-plane thickness in 2-D, m */
     real velocity_limit; /* |v| above this marks a particle bad, m/s */
+    real hourglass;      /* total Lagrangian hourglass control coefficient alpha */
     sph_int as_exponent; /* n in f_ij^n */
     sph_int material_count;
 };

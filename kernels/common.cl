@@ -185,6 +185,41 @@ static inline int4 grid_cell_coords(int cell, int4 dims)
     }                                                                                              \
     }
 
+/* Inverse of a dim x dim matrix whose determinant is near 1 (a CSPH moment
+ * matrix, a deformation gradient); falls back to the identity when it is
+ * nearly singular (isolated particles, a line of particles). */
+static inline void matrix_invert_or_identity(real b[3][3], real c[3][3])
+{
+    for (int a = 0; a < 3; ++a)
+        for (int e = 0; e < 3; ++e)
+            c[a][e] = a == e ? (real)1 : (real)0;
+#if SPH_DIM == 2
+    const real det = b[0][0] * b[1][1] - b[0][1] * b[1][0];
+    if (fabs(det) < (real)1e-3)
+        return;
+    c[0][0] = b[1][1] / det;
+    c[0][1] = -b[0][1] / det;
+    c[1][0] = -b[1][0] / det;
+    c[1][1] = b[0][0] / det;
+#else
+    const real det = b[0][0] * (b[1][1] * b[2][2] - b[1][2] * b[2][1]) -
+                     b[0][1] * (b[1][0] * b[2][2] - b[1][2] * b[2][0]) +
+                     b[0][2] * (b[1][0] * b[2][1] - b[1][1] * b[2][0]);
+    if (fabs(det) < (real)1e-4)
+        return;
+    const real inv = (real)1 / det;
+    c[0][0] = (b[1][1] * b[2][2] - b[1][2] * b[2][1]) * inv;
+    c[0][1] = (b[0][2] * b[2][1] - b[0][1] * b[2][2]) * inv;
+    c[0][2] = (b[0][1] * b[1][2] - b[0][2] * b[1][1]) * inv;
+    c[1][0] = (b[1][2] * b[2][0] - b[1][0] * b[2][2]) * inv;
+    c[1][1] = (b[0][0] * b[2][2] - b[0][2] * b[2][0]) * inv;
+    c[1][2] = (b[0][2] * b[1][0] - b[0][0] * b[1][2]) * inv;
+    c[2][0] = (b[1][0] * b[2][1] - b[1][1] * b[2][0]) * inv;
+    c[2][1] = (b[0][1] * b[2][0] - b[0][0] * b[2][1]) * inv;
+    c[2][2] = (b[0][0] * b[1][1] - b[0][1] * b[1][0]) * inv;
+#endif
+}
+
 /* Work-group size of the reduction kernels (grid bounds, per-step reduce). */
 #define REDUCE_WG 64
 

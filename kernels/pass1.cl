@@ -14,42 +14,6 @@
  * reads: pos, vel, rho, mass, material; writes: velocity_gradient, density_rate, csph.
  */
 
-#ifdef SPH_CSPH
-/* Inverse of B (dim x dim); falls back to the identity when B is nearly
- * singular (isolated particles, a line of particles). */
-static inline void csph_invert(real b[3][3], real c[3][3])
-{
-    for (int a = 0; a < 3; ++a)
-        for (int e = 0; e < 3; ++e)
-            c[a][e] = a == e ? (real)1 : (real)0;
-#if SPH_DIM == 2
-    const real det = b[0][0] * b[1][1] - b[0][1] * b[1][0];
-    if (fabs(det) < (real)1e-3)
-        return;
-    c[0][0] = b[1][1] / det;
-    c[0][1] = -b[0][1] / det;
-    c[1][0] = -b[1][0] / det;
-    c[1][1] = b[0][0] / det;
-#else
-    const real det = b[0][0] * (b[1][1] * b[2][2] - b[1][2] * b[2][1]) -
-                     b[0][1] * (b[1][0] * b[2][2] - b[1][2] * b[2][0]) +
-                     b[0][2] * (b[1][0] * b[2][1] - b[1][1] * b[2][0]);
-    if (fabs(det) < (real)1e-4)
-        return;
-    const real inv = (real)1 / det;
-    c[0][0] = (b[1][1] * b[2][2] - b[1][2] * b[2][1]) * inv;
-    c[0][1] = (b[0][2] * b[2][1] - b[0][1] * b[2][2]) * inv;
-    c[0][2] = (b[0][1] * b[1][2] - b[0][2] * b[1][1]) * inv;
-    c[1][0] = (b[1][2] * b[2][0] - b[1][0] * b[2][2]) * inv;
-    c[1][1] = (b[0][0] * b[2][2] - b[0][2] * b[2][0]) * inv;
-    c[1][2] = (b[0][2] * b[1][0] - b[0][0] * b[1][2]) * inv;
-    c[2][0] = (b[1][0] * b[2][1] - b[1][1] * b[2][0]) * inv;
-    c[2][1] = (b[0][1] * b[2][0] - b[0][0] * b[2][1]) * inv;
-    c[2][2] = (b[0][0] * b[1][1] - b[0][1] * b[1][0]) * inv;
-#endif
-}
-#endif
-
 __kernel void pass1_velocity_gradient(
     __global const vec *restrict pos, __global const vec *restrict vel,
     __global const real *restrict rho, __global const real *restrict mass,
@@ -92,7 +56,7 @@ __kernel void pass1_velocity_gradient(
     END_FOR_EACH_NEIGHBOUR
 #ifdef SPH_CSPH
     real c[3][3], corrected[3][3];
-    csph_invert(moment, c);
+    matrix_invert_or_identity(moment, c);
     for (int a = 0; a < 3; ++a)
         for (int b = 0; b < 3; ++b) {
             corrected[a][b] = 0;

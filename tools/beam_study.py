@@ -3,7 +3,8 @@
 
   tools/beam_study.py static  [--dx 2e-3 1e-3 5e-4] [--loads 1750 17500]
       quasi-static beam (cases/beam_2d_static.yaml) at each spacing and load:
-      final tip deflection against the elastica references, observed order.
+      final tip deflection against Reissner's beam (tools/reissner_beam.py)
+      and the elastica, observed order.
   tools/beam_study.py dynamic [--dx 1e-3]
       the thesis' dynamic beam (cases/beam_2d.yaml) with all six kernels:
       e_av against 33.59 mm (thesis, linear) and 30.4 mm (elastica + shear),
@@ -30,10 +31,26 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SPH = os.environ.get("SPH", os.path.join(ROOT, "build", "sph"))
 KERNELS = ["cubic_spline", "gaussian", "quintic_spline", "wendland_c2", "double_cosine",
            "hyperbolic"]
-# REFERENCES.md 1: elastica tip deflection plus about 0.25 mm of shear; at
-# 175 N (F L^2 / EI = 0.1) linear theory, 3.359 mm + 0.026 mm of shear, is
-# within 0.3% of the elastica
-ELASTICA = {175.0: 3.385e-3, 1750.0: 30.4e-3, 17500.0: 81.1e-3}
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import reissner_beam  # noqa: E402
+
+# The thesis beam (REFERENCES.md 1): L 100 mm, height 10 mm, thickness 1 mm,
+# E 210 GPa, nu 0.3.
+BEAM = dict(length=0.1, ea=210e9 * 1e-5, gas=5 / 6 * 210e9 / 2.6 * 1e-5,
+            ei=210e9 * 1e-3 * 1e-6 / 12)
+
+
+def reissner(load):
+    """Tip deflection from Reissner's beam (extension and shear included)."""
+    return -reissner_beam.solve(load, BEAM["length"], BEAM["ea"], BEAM["gas"], BEAM["ei"])[1]
+
+
+def elastica(load):
+    """Tip deflection of the inextensible, unshearable elastica."""
+    return -reissner_beam.solve(load, BEAM["length"], 1e30, 1e30, BEAM["ei"])[1]
+
+
+ELASTICA = {1750.0: 30.4e-3}  # the dynamic study's second reference (Reissner 30.40 mm)
 LINEAR_1750 = 33.59e-3
 
 
@@ -83,13 +100,15 @@ def static(args):
     for load in args.loads:
         for dx in args.dx:
             out = os.path.join(folder, f"F{int(load)}_dx{dx:g}")
+            ref, ref_elastica = reissner(load), elastica(load)
             s = run(os.path.join(ROOT, "cases", "beam_2d_static.yaml"), out,
                     [f"numerics.dx={dx}", f"groups.tip.load.force=[0, {-load}]",
-                     f"reference.value={-ELASTICA[load]}"] + args.set)
+                     f"reference.value={-ref}"] + args.set)
             w = abs(s.get("tip_deflection_final_m") or float("nan"))
-            ref = ELASTICA[load]
             rows.append([int(load), dx * 1e3, s["particles"], s["steps"], round(s["wall_time_s"], 1),
-                         s["status"], round(w * 1e3, 3), round(100 * (w - ref) / ref, 2),
+                         s["status"], round(w * 1e3, 3), round(ref * 1e3, 3),
+                         round(100 * (w - ref) / ref, 2),
+                         round(100 * (w - ref_elastica) / ref_elastica, 2),
                          s.get("max_neighbour_loss_fraction")])
             series.setdefault(load, []).append((dx, w))
     orders = []
@@ -99,17 +118,17 @@ def static(args):
             if w2 != w3 and (w1 - w2) / (w2 - w3) > 0:
                 orders.append((load, h3, math.log((w1 - w2) / (w2 - w3)) / math.log(h1 / h2)))
     write_table(folder, "static" + args.tag, ["F (N)", "dx (mm)", "particles", "steps", "wall (s)", "status",
-                                   "tip deflection (mm)", "error vs elastica (%)",
-                                   "neighbour-loss fraction"], rows)
+                                   "tip deflection (mm)", "Reissner (mm)", "error vs Reissner (%)",
+                                   "error vs elastica (%)", "neighbour-loss fraction"], rows)
     for load, h, p in orders:
         print(f"observed order at F = {load:g} N down to dx = {h * 1e3:g} mm: {p:.2f}")
     fig, ax = plt.subplots(figsize=(6, 4))
     for load, pts in series.items():
         ax.loglog([p[0] * 1e3 for p in pts],
-                  [abs(p[1] - ELASTICA[load]) / ELASTICA[load] for p in pts], "o-",
+                  [abs(p[1] - reissner(load)) / reissner(load) for p in pts], "o-",
                   label=f"F = {load / 1e3:g} kN")
     ax.set_xlabel("dx (mm)")
-    ax.set_ylabel("|W - W_elastica| / W_elastica")
+    ax.set_ylabel("|W - W_Reissner| / W_Reissner")
     ax.grid(alpha=0.3, which="both")
     ax.legend()
     fig.tight_layout()

@@ -1,0 +1,290 @@
+/*
+ * Total Lagrangian SPH (numerics.formulation: total_lagrangian) for solids
+ * that stay whole: every derivative is taken in the reference (initial)
+ * configuration, over the neighbours a particle had at t = 0. Bonet & Lok
+ * (1999) and Vidal, Bonet & Huerta (2007) give the formulation; Ganzenmueller
+ * (2015, Comput. Methods Appl. Mech. Engrg. 286) the hourglass control.
+ * Because neighbours and kernel gradients never change, the method has no
+ * tensile instability (Belytschko et al. 2000) and needs no artificial
+ * stress; the price is that it cannot follow fracture or mixing.
+ *
+ * The neighbour grid is built once on the reference positions (the host
+ * never re-sorts in this formulation) and every pair test uses them.
+ * Notation: X reference position (pos0), x current, g_ij = grad_X W(|X_i -
+ * X_j|) (the gradient with respect to X_i), V0_j = m_j / rho0_j,
+ * C_i = (sum_j V0_j (X_j - X_i) (x) g_ij)^-1 the reference correction
+ * (stored in the csph field), so that G_ij = C_i^T g_ij differentiates
+ * linear fields exactly.
+ *
+ * Per step (see kernels/integrate.cl for the leap-frog):
+ *   tl_momentum (pass 2)  dv_i/dt = 1/rho0_i sum_j V0_j (A_i + A_j) g_ij
+ *                         with A = P C^T, P = J sigma F^-T (first Piola-Kirchhoff);
+ *                         plus artificial viscosity, XSPH and hourglass control
+ *   tl_deformation (pass 1) F and its rate from the motion of the step;
+ *                         L = dF/dt F_mid^-1 for the material update
+ *   material_update       the same constitutive update as the updated form
+ *   tl_first_piola        A^(n+1) for the next step's momentum
+ * The stress force is the derivative of sum_i V0_i Psi(F_i) with respect to
+ * x_i, hence antisymmetric in the pair (momentum is conserved exactly) and
+ * work-conjugate to the deformation rate that the material update uses.
+ */
+
+/* C_i from the reference lattice; run once, before the first step.
+ * reads: pos0, mass, material; writes: csph (C_i). */
+__kernel void tl_correction(__global const vec *restrict pos0, __global const real *restrict mass,
+                            __global const int *restrict material, GRID_ARGS,
+                            __constant const struct sph_material *materials,
+                            __constant const struct sph_run_params *run,
+                            __global fullt *restrict correction, const int n)
+{
+    const int i = get_global_id(0);
+    if (i >= n)
+        return;
+    const real h = run->h;
+    const real support2 = run->support * run->support;
+    const vec xi = pos0[i];
+    real moment[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
+    FOR_EACH_NEIGHBOUR(i, j)
+    {
+        const vec xij = xi - pos0[j];
+        const real r2 = dot(xij, xij);
+        if (j != i && r2 < support2) {
+            const real r = sqrt(r2);
+            const real volume = mass[j] / materials[material[j]].density;
+            const vec grad = (kernel_dwdr(r, h) / r) * xij;
+            for (int a = 0; a < SPH_DIM; ++a)
+                for (int b = 0; b < SPH_DIM; ++b)
+                    moment[a][b] -= volume * vec_get(xij, a) * vec_get(grad, b);
+        }
+    }
+    END_FOR_EACH_NEIGHBOUR
+    real c[3][3];
+    matrix_invert_or_identity(moment, c);
+    correction[i] = fullt_store(c);
+}
+
+/* out = a . b over the first SPH_DIM rows and columns */
+static inline void tl_matmul(real a[3][3], real b[3][3], real out[3][3])
+{
+    for (int p = 0; p < 3; ++p)
+        for (int q = 0; q < 3; ++q) {
+            out[p][q] = 0;
+            for (int k = 0; k < SPH_DIM; ++k)
+                out[p][q] += a[p][k] * b[k][q];
+        }
+}
+
+/* F^n from the positions x^n, and its rate from the motion of this step,
+ * w = v^(n+1/2) + v_xsph (the velocity integrate_drift moves particles
+ * with), so that F^(n+1) = F^n + dt dF/dt is exactly the gradient of
+ * x^(n+1). The material update gets L = dF/dt (F^n + dt/2 dF/dt)^-1, the
+ * mid-step velocity gradient.
+ * reads: pos, pos0, vel_half, xsph_velocity, mass, rho, material, csph;
+ * writes: velocity_gradient, density_rate, deformation_gradient (F^(n+1)). */
+__kernel void tl_deformation(__global const vec *restrict pos, __global const vec *restrict pos0,
+                             __global const vec *restrict vel_half,
+                             __global const vec *restrict xsph_velocity,
+                             __global const real *restrict mass, __global const real *restrict rho,
+                             __global const int *restrict material, GRID_ARGS,
+                             __constant const struct sph_material *materials,
+                             __constant const struct sph_run_params *run,
+                             __global const fullt *restrict correction, const real dt,
+                             __global fullt *restrict velocity_gradient,
+                             __global real *restrict density_rate,
+                             __global fullt *restrict deformation_gradient, const int n)
+{
+    const int i = get_global_id(0);
+    if (i >= n)
+        return;
+    const real h = run->h;
+    const real support2 = run->support * run->support;
+    const vec big_xi = pos0[i], xi = pos[i], wi = vel_half[i] + xsph_velocity[i];
+    real sum_x[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
+    real sum_w[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
+    FOR_EACH_NEIGHBOUR(i, j)
+    {
+        const vec big_xij = big_xi - pos0[j];
+        const real r2 = dot(big_xij, big_xij);
+        if (j != i && r2 < support2) {
+            const real r = sqrt(r2);
+            const real volume = mass[j] / materials[material[j]].density;
+            const vec grad = (kernel_dwdr(r, h) / r) * big_xij;
+            const vec xji = pos[j] - xi, wji = vel_half[j] + xsph_velocity[j] - wi;
+            for (int a = 0; a < SPH_DIM; ++a)
+                for (int b = 0; b < SPH_DIM; ++b) {
+                    sum_x[a][b] += volume * vec_get(xji, a) * vec_get(grad, b);
+                    sum_w[a][b] += volume * vec_get(wji, a) * vec_get(grad, b);
+                }
+        }
+    }
+    END_FOR_EACH_NEIGHBOUR
+    real c[3][3], f[3][3], f_rate[3][3], f_mid[3][3], f_mid_inv[3][3], l[3][3];
+    fullt_load(correction[i], c);
+    tl_matmul(sum_x, c, f);
+    tl_matmul(sum_w, c, f_rate);
+    for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b) {
+            f_mid[a][b] = f[a][b] + (real)0.5 * dt * f_rate[a][b];
+            f[a][b] += dt * f_rate[a][b];
+        }
+    matrix_invert_or_identity(f_mid, f_mid_inv);
+    tl_matmul(f_rate, f_mid_inv, l);
+    real divergence = l[0][0] + l[1][1] + l[2][2];
+#ifdef SPH_PLANE_STRESS
+    /* sigma_zz = 0 needs eps_zz rate = -nu/(1-nu) (eps_xx + eps_yy) (Hooke) */
+    divergence *= (real)1 - materials[material[i]].plane_stress_nu;
+#endif
+    velocity_gradient[i] = fullt_store(l);
+    density_rate[i] = -rho[i] * divergence;
+    deformation_gradient[i] = fullt_store(f);
+}
+
+/* A = P C^T with P = J sigma F^-T, J = rho0 / rho (the density carries the
+ * out-of-plane stretch in plane stress, so J is the volume ratio of the
+ * slice). reads: rho, pressure, deviatoric_stress, deformation_gradient,
+ * csph, material; writes: first_piola (A). */
+__kernel void tl_first_piola(__global const real *restrict rho,
+                             __global const real *restrict pressure,
+                             __global const symt *restrict deviatoric_stress,
+                             __global const fullt *restrict deformation_gradient,
+                             __global const fullt *restrict correction,
+                             __global const int *restrict material,
+                             __constant const struct sph_material *materials,
+                             __global fullt *restrict first_piola, const int n)
+{
+    const int i = get_global_id(0);
+    if (i >= n)
+        return;
+    real sigma[3][3], f[3][3], f_inv[3][3], f_inv_t[3][3], c_t[3][3], p[3][3], a[3][3];
+    symt_load(deviatoric_stress[i], sigma);
+    for (int k = 0; k < 3; ++k)
+        sigma[k][k] -= pressure[i];
+    fullt_load(deformation_gradient[i], f);
+    matrix_invert_or_identity(f, f_inv);
+    fullt_load(correction[i], c_t);
+    for (int r = 0; r < 3; ++r)
+        for (int q = 0; q < 3; ++q) {
+            f_inv_t[r][q] = f_inv[q][r];
+            if (r < q) {
+                const real t = c_t[r][q];
+                c_t[r][q] = c_t[q][r];
+                c_t[q][r] = t;
+            }
+        }
+    const real volume_ratio = materials[material[i]].density / rho[i];
+    tl_matmul(sigma, f_inv_t, p);
+    tl_matmul(p, c_t, a);
+    for (int r = 0; r < 3; ++r)
+        for (int q = 0; q < 3; ++q)
+            a[r][q] *= volume_ratio;
+    first_piola[i] = fullt_store(a);
+}
+
+/* Hourglass control (after Ganzenmueller 2015, eqs. 18-20): the pair
+ * separation predicted by the mean deformation gradient of the two
+ * particles, F_ij X_ji, is compared with the actual x_ji; the mismatch along
+ * the pair (zero for every linear displacement field, so it adds no
+ * stiffness to a homogeneous deformation) is pulled back by a pair force of
+ * modulus alpha E V0_i V0_j W(X_ij) / X_ij^2 per metre of mismatch. Returns
+ * that force over m_i (an acceleration). */
+static inline vec tl_hourglass(vec xji, vec big_xji, real r0, real w0, real f_mean[3][3],
+                               real coefficient, real volume_j)
+{
+    real predicted[3] = {0, 0, 0};
+    for (int a = 0; a < SPH_DIM; ++a)
+        for (int b = 0; b < SPH_DIM; ++b)
+            predicted[a] += f_mean[a][b] * vec_get(big_xji, b);
+    const real r = length(xji);
+    if (r <= 0)
+        return VEC_ZERO;
+    const vec direction = xji / r;
+    const vec mismatch = xji - vec_make(predicted[0], predicted[1], predicted[2]);
+    return (coefficient * volume_j * w0 / (r0 * r0) * dot(mismatch, direction)) * direction;
+}
+
+/* Pass 2 of the total Lagrangian form: stress force, artificial viscosity
+ * (on the current pair geometry, as in the updated form), hourglass control,
+ * XSPH. reads: pos, pos0, vel, rho, mass, first_piola, deformation_gradient,
+ * material; writes: acceleration, energy_rate, xsph_velocity. */
+__kernel void tl_momentum(__global const vec *restrict pos, __global const vec *restrict pos0,
+                          __global const vec *restrict vel, __global const real *restrict rho,
+                          __global const real *restrict mass,
+                          __global const fullt *restrict first_piola,
+                          __global const fullt *restrict deformation_gradient,
+                          __global const int *restrict material, GRID_ARGS,
+                          __constant const struct sph_material *materials,
+                          __constant const struct sph_run_params *run,
+                          __global vec *restrict acceleration, __global real *restrict energy_rate,
+                          __global vec *restrict xsph_velocity, const int n)
+{
+    const int i = get_global_id(0);
+    if (i >= n)
+        return;
+    const real h = run->h;
+    const real support2 = run->support * run->support;
+    const vec big_xi = pos0[i], xi = pos[i], vi = vel[i];
+    __constant const struct sph_material *mi = &materials[material[i]];
+    /* hourglass stiffness alpha E / rho0_i, E = 9 K G / (3 K + G) */
+    const real hourglass = run->hourglass * (real)9 * mi->bulk_modulus * mi->shear_modulus /
+                           (((real)3 * mi->bulk_modulus + mi->shear_modulus) * mi->density);
+    real a_i[3][3], f_i[3][3];
+    fullt_load(first_piola[i], a_i);
+    fullt_load(deformation_gradient[i], f_i);
+    real acc[3] = {0, 0, 0};
+    real de = 0;
+    vec xsph = VEC_ZERO, acc_extra = VEC_ZERO; /* viscosity, hourglass */
+    FOR_EACH_NEIGHBOUR(i, j)
+    {
+        const vec big_xij = big_xi - pos0[j];
+        const real r02 = dot(big_xij, big_xij);
+        if (j != i && r02 < support2) {
+            const real r0 = sqrt(r02);
+            __constant const struct sph_material *mj = &materials[material[j]];
+            const real volume_j = mass[j] / mj->density;
+            const real dwdr_r = kernel_dwdr(r0, h) / r0;
+            real a_j[3][3], grad[3] = {0, 0, 0}, stress_force[3];
+            fullt_load(first_piola[j], a_j);
+            for (int a = 0; a < SPH_DIM; ++a)
+                grad[a] = dwdr_r * vec_get(big_xij, a);
+            for (int a = 0; a < SPH_DIM; ++a) {
+                stress_force[a] = 0;
+                for (int b = 0; b < SPH_DIM; ++b)
+                    stress_force[a] += (a_i[a][b] + a_j[a][b]) * grad[b];
+                acc[a] += volume_j * stress_force[a];
+            }
+            const vec xij = xi - pos[j], vij = vi - vel[j];
+            const real r2 = dot(xij, xij);
+            if (r2 < support2 && r2 > 0) {
+                const real r = sqrt(r2);
+                const real rho_mean = (real)0.5 * (rho[i] + rho[j]);
+                const real pi_ij = artificial_viscosity(
+                    vij, xij, r2, h, (real)0.5 * (mi->sound_speed + mj->sound_speed), rho_mean,
+                    run->av_alpha, run->av_beta);
+                const vec visc = (-mass[j] * pi_ij * kernel_dwdr(r, h) / r) * xij;
+                acc_extra += visc;
+                de -= (real)0.5 * dot(vij, visc);
+#ifdef SPH_XSPH
+                xsph -= (mass[j] / rho_mean * kernel_w(r, h)) * vij;
+#endif
+            }
+            if (hourglass > 0) {
+                real f_mean[3][3];
+                fullt_load(deformation_gradient[j], f_mean);
+                for (int a = 0; a < 3; ++a)
+                    for (int b = 0; b < 3; ++b)
+                        f_mean[a][b] = (real)0.5 * (f_mean[a][b] + f_i[a][b]);
+                acc_extra +=
+                    tl_hourglass(-xij, -big_xij, r0, kernel_w(r0, h), f_mean, hourglass, volume_j);
+            }
+        }
+    }
+    END_FOR_EACH_NEIGHBOUR
+    const real inv_rho0 = (real)1 / mi->density;
+    acceleration[i] = inv_rho0 * vec_make(acc[0], acc[1], acc[2]) + acc_extra;
+    energy_rate[i] = de;
+#ifdef SPH_XSPH
+    xsph_velocity[i] = run->xsph_epsilon * xsph;
+#else
+    xsph_velocity[i] = VEC_ZERO;
+#endif
+}
