@@ -98,8 +98,8 @@ static const char *const kernel_names[] = {
     "hyperbolic",   NULL};
 _Static_assert(ARRAY_LEN(kernel_names) == SPH_KERNEL_COUNT + 1, "one name per kernel");
 static const char *const plane_names[] = {"stress", "strain", NULL};
-static const char *const eos_names[] = {"linear", NULL};
-static const char *const strength_names[] = {"elastic", "perfectly_plastic", NULL};
+static const char *const eos_names[] = {"linear", "mie_gruneisen", "polynomial", NULL};
+static const char *const strength_names[] = {"elastic", "perfectly_plastic", "johnson_cook", NULL};
 static const char *const shape_names[] = {"box", NULL};
 static const char *const law_names[] = {"constant", "linear_ramp", "quadratic_ramp", NULL};
 static const char *const quantity_names[] = {"displacement_x", "displacement_y", "displacement_z",
@@ -701,17 +701,38 @@ static int read_map(struct ctx *x, const struct schema *s, char *base, int map, 
 
 /* ---- rules the tables cannot express ----------------------------------- */
 
+/* A key that must be given exactly when `needed` holds (a model's own
+ * parameters). */
+static int needed_exactly(struct ctx *x, const struct frame *fr, const char *key, int needed,
+                          const char *when)
+{
+    if (needed && !given(fr, key))
+        return fail(x, fr->blame, x->key, "missing required key '%s' (%s)", key, when);
+    if (!needed && given(fr, key))
+        return fail(x, line_of(fr, key), subkey(x, key), "only allowed when %s", when);
+    return 0;
+}
+
 static int check_material(struct ctx *x, const struct frame *fr, void *base)
 {
     const struct case_material *m = base;
-    const int plastic = m->strength == SPH_STRENGTH_PERFECTLY_PLASTIC;
-    if (plastic && !given(fr, "yield_stress"))
-        return fail(x, fr->blame, x->key,
-                    "missing required key 'yield_stress' (strength is perfectly_plastic)");
-    if (!plastic && given(fr, "yield_stress"))
-        return fail(x, line_of(fr, "yield_stress"), subkey(x, "yield_stress"),
-                    "only allowed when strength is perfectly_plastic");
+    const int plastic = m->strength != SPH_STRENGTH_ELASTIC;
+    const int jc = m->strength == SPH_STRENGTH_JOHNSON_COOK;
+    if (needed_exactly(x, fr, "yield_stress", plastic,
+                       "strength is perfectly_plastic or johnson_cook") ||
+        needed_exactly(x, fr, "johnson_cook", jc, "strength is johnson_cook") ||
+        needed_exactly(x, fr, "heat_capacity", jc, "strength is johnson_cook") ||
+        needed_exactly(x, fr, "mie_gruneisen", m->eos == SPH_EOS_MIE_GRUNEISEN,
+                       "eos is mie_gruneisen") ||
+        needed_exactly(x, fr, "polynomial", m->eos == SPH_EOS_POLYNOMIAL, "eos is polynomial"))
+        return 1;
     return 0;
+}
+
+static int check_johnson_cook(struct ctx *x, const struct frame *fr, void *base)
+{
+    const struct case_johnson_cook *j = base;
+    return needed_exactly(x, fr, "melt_temperature", j->m > 0, "m (thermal softening) is positive");
 }
 
 static int check_box(struct ctx *x, const struct frame *fr, const struct case_box *b)
@@ -866,6 +887,36 @@ static int check_case(struct ctx *x, const struct frame *fr, void *base)
         fields, ARRAY_LEN(fields), sizeof(T), check                                                \
     }
 
+static const struct field mie_gruneisen_fields[] = {
+    NUMBER("c0", struct case_eos_parameters, c0, F_REQUIRED, R_POSITIVE, 0, 0, 0, "m/s"),
+    NUMBER("s", struct case_eos_parameters, s, F_REQUIRED, R_NONNEG, 0, 0, 0, NULL),
+    NUMBER("gamma0", struct case_eos_parameters, gamma0, F_REQUIRED, R_NONNEG, 0, 0, 0, NULL),
+};
+static const struct schema mie_gruneisen_schema =
+    SCHEMA(mie_gruneisen_fields, struct case_eos_parameters, NULL);
+
+static const struct field polynomial_fields[] = {
+    NUMBER("c0", struct case_eos_parameters, c0, F_REQUIRED, R_POSITIVE, 0, 0, 0, "m/s"),
+    NUMBER("s", struct case_eos_parameters, s, F_REQUIRED, R_NONNEG, 0, 0, 0, NULL),
+    NUMBER("gamma0", struct case_eos_parameters, gamma0, 0, R_NONNEG, 0, 0, 0, NULL),
+    NUMBER("p0", struct case_eos_parameters, p0, 0, R_ANY, 0, 0, 0, "Pa"),
+};
+static const struct schema polynomial_schema =
+    SCHEMA(polynomial_fields, struct case_eos_parameters, NULL);
+
+static const struct field johnson_cook_fields[] = {
+    NUMBER("b", struct case_johnson_cook, b, F_REQUIRED, R_NONNEG, 0, 0, 0, "Pa"),
+    NUMBER("n", struct case_johnson_cook, n, F_REQUIRED, R_NONNEG, 0, 0, 0, NULL),
+    NUMBER("c", struct case_johnson_cook, c, 0, R_NONNEG, 0, 0, 0, NULL),
+    NUMBER("reference_rate", struct case_johnson_cook, reference_rate, 0, R_POSITIVE, 0, 0, 1,
+           "1/s"),
+    NUMBER("m", struct case_johnson_cook, m, 0, R_NONNEG, 0, 0, 0, NULL),
+    NUMBER("melt_temperature", struct case_johnson_cook, melt_temperature, F_OMIT_ZERO, R_POSITIVE,
+           0, 0, 0, "K"),
+};
+static const struct schema johnson_cook_schema =
+    SCHEMA(johnson_cook_fields, struct case_johnson_cook, check_johnson_cook);
+
 static const struct field material_fields[] = {
     STRING("name", struct case_material, name, F_REQUIRED | F_UNIQUE, K_NAME),
     NUMBER("density", struct case_material, density, F_REQUIRED, R_POSITIVE, 0, 0, 0, "kg/m^3"),
@@ -873,11 +924,21 @@ static const struct field material_fields[] = {
            "Pa"),
     NUMBER("poisson_ratio", struct case_material, poisson_ratio, F_REQUIRED, R_OPEN, -1, 0.5, 0,
            NULL),
-    ENUM("eos", struct case_material, eos, 0, SPH_EOS_LINEAR, eos_names,
-         "linear (mie_gruneisen and polynomial are not supported yet)"),
+    ENUM("eos", struct case_material, eos, 0, SPH_EOS_LINEAR, eos_names, NULL),
+    MAP("mie_gruneisen", F_ENABLE, offsetof(struct case_material, mie_gruneisen),
+        offsetof(struct case_material, mie_gruneisen.enabled), mie_gruneisen_schema),
+    MAP("polynomial", F_ENABLE, offsetof(struct case_material, polynomial),
+        offsetof(struct case_material, polynomial.enabled), polynomial_schema),
     ENUM("strength", struct case_material, strength, 0, SPH_STRENGTH_ELASTIC, strength_names, NULL),
     NUMBER("yield_stress", struct case_material, yield_stress, F_OMIT_ZERO, R_POSITIVE, 0, 0, 0,
            "Pa"),
+    MAP("johnson_cook", F_ENABLE, offsetof(struct case_material, johnson_cook),
+        offsetof(struct case_material, johnson_cook.enabled), johnson_cook_schema),
+    NUMBER("room_temperature", struct case_material, room_temperature, 0, R_POSITIVE, 0, 0, 293,
+           "K"),
+    NUMBER("heat_capacity", struct case_material, heat_capacity, F_OMIT_ZERO, R_POSITIVE, 0, 0, 0,
+           "J/(kg K)"),
+    NUMBER("taylor_quinney", struct case_material, taylor_quinney, 0, R_CLOSED, 0, 1, 0.9, NULL),
 };
 
 static const struct field body_fields[] = {

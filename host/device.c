@@ -15,10 +15,9 @@
 
 /* Kernel sources in the order the program is assembled. */
 static const char *const source_files[] = {
-    "include/sph_shared.h", "kernels/smoothing.cl",
-    "kernels/common.cl",    "kernels/grid.cl",
-    "kernels/pass1.cl",     "kernels/material.cl",
-    "kernels/pass2.cl",     "kernels/total_lagrangian.cl",
+    "include/sph_shared.h", "kernels/smoothing.cl", "kernels/common.cl",
+    "kernels/grid.cl",      "kernels/pass1.cl",     "kernels/material_models.cl",
+    "kernels/material.cl",  "kernels/pass2.cl",     "kernels/total_lagrangian.cl",
     "kernels/integrate.cl", "kernels/reduce.cl",
 };
 

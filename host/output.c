@@ -86,8 +86,9 @@ static int write_dataset(hid_t file, const char *name, hid_t type, const void *d
     return status < 0;
 }
 
-static const char *const scalar_names[] = {"density", "pressure", "internal_energy",
-                                           "von_mises_stress", "plastic_strain"};
+static const char *const scalar_names[] = {"density",          "pressure",       "internal_energy",
+                                           "von_mises_stress", "plastic_strain", "temperature"};
+#define SCALAR_COUNT (int)(sizeof scalar_names / sizeof scalar_names[0])
 
 static int write_snapshot_file(const char *path, const struct host_fields *f)
 {
@@ -95,12 +96,13 @@ static int write_snapshot_file(const char *path, const struct host_fields *f)
     if (file < 0)
         return 1;
     const hsize_t n = (hsize_t)f->n;
-    const double *scalars[] = {f->rho, f->pressure, f->energy, f->von_mises, f->plastic_strain};
+    const double *scalars[] = {f->rho,       f->pressure,       f->energy,
+                               f->von_mises, f->plastic_strain, f->temperature};
     int bad = write_dataset(file, "position", H5T_NATIVE_DOUBLE, f->pos, n, 3);
     bad |= write_dataset(file, "velocity", H5T_NATIVE_DOUBLE, f->vel, n, 3);
     bad |= write_dataset(file, "displacement", H5T_NATIVE_DOUBLE, f->disp, n, 3);
     bad |= write_dataset(file, "stress", H5T_NATIVE_DOUBLE, f->stress, n, 6);
-    for (int k = 0; k < 5; ++k)
+    for (int k = 0; k < SCALAR_COUNT; ++k)
         bad |= write_dataset(file, scalar_names[k], H5T_NATIVE_DOUBLE, scalars[k], n, 1);
     bad |= write_dataset(file, "flags", H5T_NATIVE_INT, f->flags, n, 1);
     bad |= write_dataset(file, "material", H5T_NATIVE_INT, f->material, n, 1);
@@ -151,7 +153,7 @@ static int write_xdmf(const struct output *o)
         xdmf_attribute(x, file, "velocity", "Vector", n, 3, 0);
         xdmf_attribute(x, file, "displacement", "Vector", n, 3, 0);
         xdmf_attribute(x, file, "stress", "Tensor6", n, 6, 0);
-        for (int k = 0; k < 5; ++k)
+        for (int k = 0; k < SCALAR_COUNT; ++k)
             xdmf_attribute(x, file, scalar_names[k], "Scalar", n, 1, 0);
         xdmf_attribute(x, file, "flags", "Scalar", n, 1, 1);
         xdmf_attribute(x, file, "material", "Scalar", n, 1, 1);

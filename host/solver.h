@@ -35,6 +35,7 @@ enum field {
     FIELD_ENERGY,
     FIELD_STRESS,
     FIELD_PLASTIC_STRAIN,
+    FIELD_TEMPERATURE,
     FIELD_MASS,
     FIELD_FLAGS,
     FIELD_MATERIAL,
@@ -102,6 +103,9 @@ struct solver {
     int probe_count;
 };
 
+/* The largest longitudinal sound speed over the case's materials, m/s. */
+double solver_max_sound_speed(const struct sph_case *c);
+
 /* -D options for the program from the case. */
 void solver_build_options(const struct sph_case *c, char *options, size_t size);
 
@@ -131,8 +135,8 @@ void solver_reduce(struct solver *s, const double load[3], struct reduction *out
 /* Host copies of the output fields, in original particle order (by id). */
 struct host_fields {
     int n;
-    double *pos, *vel, *disp; /* 3 per particle */
-    double *rho, *pressure, *energy, *plastic_strain, *von_mises;
+    double *pos, *vel, *disp;                                                   /* 3 per particle */
+    double *rho, *pressure, *energy, *plastic_strain, *von_mises, *temperature; /* K */
     double *stress; /* 6 per particle: xx, xy, xz, yy, yz, zz (XDMF Tensor6), Pa */
     int *flags, *material;
 };

@@ -17,6 +17,7 @@ const struct field_info field_table[FIELD_COUNT] = {
     [FIELD_ENERGY] = {"specific_internal_energy", ELEM_REAL},
     [FIELD_STRESS] = {"deviatoric_stress", ELEM_SYMT},
     [FIELD_PLASTIC_STRAIN] = {"plastic_strain", ELEM_REAL},
+    [FIELD_TEMPERATURE] = {"temperature", ELEM_REAL},
     [FIELD_MASS] = {"mass", ELEM_REAL},
     [FIELD_FLAGS] = {"flags", ELEM_INT},
     [FIELD_MATERIAL] = {"material", ELEM_INT},
@@ -126,53 +127,85 @@ static void zero_buffer(struct solver *s, cl_mem buffer, size_t bytes)
     free(zeros);
 }
 
+/* The bulk modulus at rho0 of the material's EOS (dp/dmu at mu = 0). */
+static double eos_bulk_modulus(const struct case_material *cm, double bulk_from_elasticity)
+{
+    if (cm->eos == SPH_EOS_MIE_GRUNEISEN)
+        return cm->density * cm->mie_gruneisen.c0 * cm->mie_gruneisen.c0;
+    if (cm->eos == SPH_EOS_POLYNOMIAL)
+        return cm->density * cm->polynomial.c0 * cm->polynomial.c0 -
+               0.5 * cm->polynomial.gamma0 * cm->polynomial.p0;
+    return bulk_from_elasticity;
+}
+
+/* The material table in double, from the case. */
+struct material_double {
+#define SPH_DECLARE_DOUBLE(name) cl_double name;
+    SPH_MATERIAL_REALS(SPH_DECLARE_DOUBLE)
+#undef SPH_DECLARE_DOUBLE
+    cl_int eos, strength, pad0, pad1;
+};
+
+static struct material_double material_entry(const struct case_material *cm)
+{
+    struct material_double m;
+    memset(&m, 0, sizeof m);
+    const double nu = cm->poisson_ratio, e = cm->youngs_modulus;
+    const double bulk = e / (3.0 * (1.0 - 2.0 * nu)), shear = e / (2.0 * (1.0 + nu));
+    const struct case_eos_parameters *eos =
+        cm->eos == SPH_EOS_POLYNOMIAL ? &cm->polynomial : &cm->mie_gruneisen;
+    m.density = cm->density;
+    m.bulk_modulus = bulk;
+    m.shear_modulus = shear;
+    m.sound_speed = sqrt((eos_bulk_modulus(cm, bulk) + 4.0 * shear / 3.0) / cm->density);
+    m.yield_stress = cm->yield_stress;
+    m.hardening_b = cm->johnson_cook.b;
+    m.hardening_n = cm->johnson_cook.n;
+    m.plane_stress_nu = nu / (1.0 - nu);
+    m.eos_c0 = eos->c0;
+    m.eos_s = eos->s;
+    m.eos_gamma0 = eos->gamma0;
+    m.eos_p0 = eos->p0;
+    m.jc_rate_c = cm->johnson_cook.c;
+    m.jc_reference_rate = cm->johnson_cook.enabled ? cm->johnson_cook.reference_rate : 1.0;
+    m.jc_thermal_m = cm->johnson_cook.m;
+    m.melt_temperature = cm->johnson_cook.melt_temperature;
+    m.room_temperature = cm->room_temperature;
+    m.heat_capacity = cm->heat_capacity;
+    m.taylor_quinney = cm->taylor_quinney;
+    m.eos = cm->eos;
+    m.strength = cm->strength;
+    return m;
+}
+
 static void upload_materials(struct solver *s, const struct sph_case *c)
 {
-    double values[SPH_MAX_MATERIALS][8];
-    struct sph_material table[SPH_MAX_MATERIALS];
-    memset(table, 0, sizeof table);
+    struct material_double wide[SPH_MAX_MATERIALS];
+    struct sph_material narrow[SPH_MAX_MATERIALS];
+    memset(narrow, 0, sizeof narrow);
     for (int m = 0; m < c->material_count; ++m) {
-        const struct case_material *cm = &c->materials[m];
-        const double nu = cm->poisson_ratio, e = cm->youngs_modulus;
-        const double bulk = e / (3.0 * (1.0 - 2.0 * nu)), shear = e / (2.0 * (1.0 + nu));
-        values[m][0] = cm->density;
-        values[m][1] = bulk;
-        values[m][2] = shear;
-        values[m][3] = sqrt((bulk + 4.0 * shear / 3.0) / cm->density);
-        values[m][4] = cm->yield_stress;
-        values[m][5] = 0.0;
-        values[m][6] = 0.0;
-        values[m][7] = nu / (1.0 - nu);
-        table[m].density = (real)values[m][0];
-        table[m].bulk_modulus = (real)values[m][1];
-        table[m].shear_modulus = (real)values[m][2];
-        table[m].sound_speed = (real)values[m][3];
-        table[m].yield_stress = (real)values[m][4];
-        table[m].plane_stress_nu = (real)values[m][7];
-        table[m].eos = cm->eos;
-        table[m].strength = cm->strength;
+        wide[m] = material_entry(&c->materials[m]);
+#define SPH_NARROW(name) narrow[m].name = (real)wide[m].name;
+        SPH_MATERIAL_REALS(SPH_NARROW)
+#undef SPH_NARROW
+        narrow[m].eos = wide[m].eos;
+        narrow[m].strength = wide[m].strength;
     }
-    /* The struct holds `real`, fixed at host compile time to float; a double
-     * build of the kernels gets a converted copy. */
-    if (!s->double_precision) {
-        CL_CHECK(clEnqueueWriteBuffer(s->dev->queue, s->materials, CL_TRUE, 0,
-                                      sizeof table[0] * (size_t)c->material_count, table, 0, NULL,
-                                      NULL));
-        return;
-    }
-    struct {
-        cl_double v[8];
-        cl_int eos, strength, pad0, pad1;
-    } wide[SPH_MAX_MATERIALS];
-    memset(wide, 0, sizeof wide);
-    for (int m = 0; m < c->material_count; ++m) {
-        for (int k = 0; k < 8; ++k)
-            wide[m].v[k] = values[m][k];
-        wide[m].eos = c->materials[m].eos;
-        wide[m].strength = c->materials[m].strength;
-    }
+    /* `real` is fixed at host compile time to float; a double build of the
+     * kernels gets the double table, which has the same member order */
+    const void *table = s->double_precision ? (const void *)wide : (const void *)narrow;
+    const size_t entry = s->double_precision ? sizeof wide[0] : sizeof narrow[0];
     CL_CHECK(clEnqueueWriteBuffer(s->dev->queue, s->materials, CL_TRUE, 0,
-                                  sizeof wide[0] * (size_t)c->material_count, wide, 0, NULL, NULL));
+                                  entry * (size_t)c->material_count, table, 0, NULL, NULL));
+}
+
+/* The largest sound speed over the materials (for dt and the velocity limit). */
+double solver_max_sound_speed(const struct sph_case *c)
+{
+    double c_max = 0;
+    for (int m = 0; m < c->material_count; ++m)
+        c_max = fmax(c_max, material_entry(&c->materials[m]).sound_speed);
+    return c_max;
 }
 
 static void upload_run_params(struct solver *s)
@@ -198,8 +231,8 @@ static void upload_run_params(struct solver *s)
                                   NULL, NULL));
 }
 
-int solver_create_buffers(struct solver *s, const struct sph_scene *scene, char *error,
-                          size_t error_size)
+int solver_create_buffers(struct solver *s, const struct sph_case *c, const struct sph_scene *scene,
+                          char *error, size_t error_size)
 {
     const size_t total = solver_bytes_per_particle(s) * (size_t)s->n;
     if (total > s->dev->global_memory) {
@@ -226,7 +259,7 @@ int solver_create_buffers(struct solver *s, const struct sph_scene *scene, char 
     s->sort_keys = create_buffer(s, sizeof(cl_ulong) * (size_t)s->padded_n);
     s->partials = create_buffer(s, s->element_size[ELEM_REAL] * SPH_RED_SLOTS * s->reduce_groups);
     s->bounds_partials = create_buffer(s, s->element_size[ELEM_REAL] * 6 * s->reduce_groups);
-    s->materials = create_buffer(s, 8 * 16 * SPH_MAX_MATERIALS);
+    s->materials = create_buffer(s, sizeof(struct material_double) * SPH_MAX_MATERIALS);
     s->run_params = create_buffer(s, 8 * 16);
 
     upload_vectors(s, s->field[FIELD_POS], scene->position, s->n);
@@ -243,9 +276,14 @@ int solver_create_buffers(struct solver *s, const struct sph_scene *scene, char 
         ids[p] = p;
     upload_ints(s, s->field[FIELD_ID], ids, s->n);
     free(ids);
+    double *temperature = malloc(sizeof(double) * (size_t)s->n);
+    for (int p = 0; p < s->n; ++p)
+        temperature[p] = c->materials[scene->material[p]].room_temperature;
+    upload_reals(s, s->field[FIELD_TEMPERATURE], temperature, (size_t)s->n);
+    free(temperature);
     static const enum field uploaded[] = {
-        FIELD_POS, FIELD_POS0, FIELD_POS_AT_SORT, FIELD_VEL,      FIELD_VEL_HALF,
-        FIELD_RHO, FIELD_MASS, FIELD_FLAGS,       FIELD_MATERIAL, FIELD_ID};
+        FIELD_POS,  FIELD_POS0,     FIELD_POS_AT_SORT, FIELD_VEL,         FIELD_VEL_HALF, FIELD_RHO,
+        FIELD_MASS, FIELD_MATERIAL, FIELD_FLAGS,       FIELD_TEMPERATURE, FIELD_ID};
     for (int f = 0; f < FIELD_COUNT; ++f) {
         int is_uploaded = 0;
         for (size_t k = 0; k < sizeof uploaded / sizeof uploaded[0]; ++k)
@@ -325,6 +363,7 @@ static void allocate_fields(struct host_fields *o, int n)
     o->pressure = calloc((size_t)n, sizeof(double));
     o->energy = calloc((size_t)n, sizeof(double));
     o->plastic_strain = calloc((size_t)n, sizeof(double));
+    o->temperature = calloc((size_t)n, sizeof(double));
     o->von_mises = calloc((size_t)n, sizeof(double));
     o->flags = calloc((size_t)n, sizeof(int));
     o->material = calloc((size_t)n, sizeof(int));
@@ -352,6 +391,7 @@ int solver_read_fields(struct solver *s, struct host_fields *o)
     double *vel = read_reals(s, FIELD_VEL, vw), *rho = read_reals(s, FIELD_RHO, 1);
     double *p = read_reals(s, FIELD_PRESSURE, 1), *e = read_reals(s, FIELD_ENERGY, 1);
     double *ep = read_reals(s, FIELD_PLASTIC_STRAIN, 1), *dev = read_reals(s, FIELD_STRESS, sw);
+    double *temperature = read_reals(s, FIELD_TEMPERATURE, 1);
     int *id = read_ints(s, FIELD_ID), *flags = read_ints(s, FIELD_FLAGS);
     int *mat = read_ints(s, FIELD_MATERIAL);
     allocate_fields(o, s->n);
@@ -366,11 +406,13 @@ int solver_read_fields(struct solver *s, struct host_fields *o)
         o->pressure[q] = p[k];
         o->energy[q] = e[k];
         o->plastic_strain[q] = ep[k];
+        o->temperature[q] = temperature[k];
         o->flags[q] = flags[k];
         o->material[q] = mat[k];
         stress_to_tensor6(&dev[(size_t)k * sw], s->dim, p[k], &o->stress[6 * q], &o->von_mises[q]);
     }
     free(pos), free(pos0), free(vel), free(rho), free(p), free(e), free(ep), free(dev);
+    free(temperature);
     free(id), free(flags), free(mat);
     return 0;
 }
@@ -379,5 +421,6 @@ void host_fields_free(struct host_fields *f)
 {
     free(f->pos), free(f->vel), free(f->disp), free(f->stress), free(f->rho), free(f->pressure);
     free(f->energy), free(f->plastic_strain), free(f->von_mises), free(f->flags), free(f->material);
+    free(f->temperature);
     memset(f, 0, sizeof *f);
 }

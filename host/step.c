@@ -6,8 +6,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-int solver_create_buffers(struct solver *s, const struct sph_scene *scene, char *error,
-                          size_t error_size);
+int solver_create_buffers(struct solver *s, const struct sph_case *c, const struct sph_scene *scene,
+                          char *error, size_t error_size);
 void solver_upload_constants(struct solver *s, const struct sph_case *c);
 void solver_release_buffers(struct solver *s);
 
@@ -150,12 +150,7 @@ static void fill_run_params(struct solver *s, const struct sph_case *c)
     s->run.xsph_epsilon = (real)num->xsph_epsilon;
     s->run.damping = (real)num->damping;
     s->run.thickness = (real)(c->dimension == 2 ? c->thickness : 1.0);
-    double c_max = 0;
-    for (int m = 0; m < c->material_count; ++m) {
-        const double nu = c->materials[m].poisson_ratio, e = c->materials[m].youngs_modulus;
-        const double bulk = e / (3 * (1 - 2 * nu)), shear = e / (2 * (1 + nu));
-        c_max = fmax(c_max, sqrt((bulk + 4 * shear / 3) / c->materials[m].density));
-    }
+    const double c_max = solver_max_sound_speed(c);
     double v0 = 0;
     for (int b = 0; b < c->body_count; ++b)
         v0 = fmax(v0, sqrt(c->bodies[b].velocity[0] * c->bodies[b].velocity[0] +
@@ -193,7 +188,7 @@ int solver_create(struct solver *s, struct sph_device *dev, const struct sph_cas
     s->element_size[ELEM_SYMT] = (s->dim == 2 ? 4 : 8) * r;
     s->element_size[ELEM_FULLT] = (s->dim == 2 ? 4 : 16) * r;
     fill_run_params(s, c);
-    if (solver_create_buffers(s, scene, error, error_size))
+    if (solver_create_buffers(s, c, scene, error, error_size))
         return 1;
     solver_upload_constants(s, c);
     create_kernels(s);
@@ -356,10 +351,11 @@ static void material(struct solver *s, double dt)
     cl_mem *f = s->field;
     struct real_arg a_dt;
     SET_ARGS(s->k.material, MEM(f[FIELD_RHO]), MEM(f[FIELD_DENSITY_CHANGE]), MEM(f[FIELD_ENERGY]),
-             MEM(f[FIELD_STRESS]), MEM(f[FIELD_PLASTIC_STRAIN]), MEM(f[FIELD_VELOCITY_GRADIENT]),
-             MEM(f[FIELD_DENSITY_RATE]), MEM(f[FIELD_ENERGY_RATE]), MEM(f[FIELD_MATERIAL]),
-             MEM(s->materials), MEM(s->run_params), real_value(s, &a_dt, dt),
-             MEM(f[FIELD_PRESSURE]), MEM(f[FIELD_ARTIFICIAL_STRESS]), INT(s->n));
+             MEM(f[FIELD_STRESS]), MEM(f[FIELD_PLASTIC_STRAIN]), MEM(f[FIELD_TEMPERATURE]),
+             MEM(f[FIELD_VELOCITY_GRADIENT]), MEM(f[FIELD_DENSITY_RATE]), MEM(f[FIELD_ENERGY_RATE]),
+             MEM(f[FIELD_MATERIAL]), MEM(s->materials), MEM(s->run_params),
+             real_value(s, &a_dt, dt), MEM(f[FIELD_PRESSURE]), MEM(f[FIELD_ARTIFICIAL_STRESS]),
+             INT(s->n));
     launch(s, s->k.material, (size_t)s->n, 0);
 }
 

@@ -33,14 +33,37 @@ enum sph_probe_quantity {
     SPH_PROBE_DISPLACEMENT_Z = 2
 };
 
+/* Parameters of the Mie-Gruneisen and polynomial EOS (kernels/material_models.cl). */
+struct case_eos_parameters {
+    int enabled;   /* the map was given */
+    double c0;     /* m/s, required */
+    double s;      /* Hugoniot slope, required */
+    double gamma0; /* Gruneisen Gamma0, required for mie_gruneisen, default 0 for polynomial */
+    double p0;     /* Pa, polynomial only, default 0 */
+};
+
+struct case_johnson_cook {
+    int enabled;
+    double b, n;             /* hardening B (Pa) and n, required */
+    double c;                /* strain-rate C, default 0 */
+    double reference_rate;   /* 1/s, default 1 */
+    double m;                /* thermal softening exponent, default 0 (off) */
+    double melt_temperature; /* K, required when m > 0 */
+};
+
 struct case_material {
     char name[SPH_NAME_MAX];
-    double density;                  /* kg/m^3, > 0, required */
-    double youngs_modulus;           /* Pa, > 0, required */
-    double poisson_ratio;            /* (-1, 0.5), required */
-    enum sph_eos_type eos;           /* "linear" (default) */
-    enum sph_strength_type strength; /* "elastic" (default) */
-    double yield_stress;             /* Pa, required unless strength is elastic */
+    double density;        /* kg/m^3, > 0, required */
+    double youngs_modulus; /* Pa, > 0, required */
+    double poisson_ratio;  /* (-1, 0.5), required */
+    enum sph_eos_type eos; /* "linear" (default), "mie_gruneisen", "polynomial" */
+    struct case_eos_parameters mie_gruneisen, polynomial;
+    enum sph_strength_type strength; /* "elastic" (default), "perfectly_plastic", "johnson_cook" */
+    double yield_stress;             /* Pa (Johnson-Cook A), required unless elastic */
+    struct case_johnson_cook johnson_cook;
+    double room_temperature; /* K, initial temperature, default 293 */
+    double heat_capacity;    /* J/(kg K), required for johnson_cook */
+    double taylor_quinney;   /* fraction of plastic work that heats, default 0.9 */
 };
 
 /* A region: an axis-aligned box [min, max] (m). In 2-D the z entries are 0. */

@@ -58,18 +58,41 @@ enum sph_flag {
 };
 
 /* Material constants, SI units, one entry per material, indexed by the
- * particle's material id. */
+ * particle's material id. The real members are listed once, here, so that
+ * the host can build the same layout in double for a double-precision
+ * device build (host/state.c):
+ *   density            rho0, kg/m^3
+ *   bulk_modulus       K, Pa: linear EOS p = K (rho/rho0 - 1)
+ *   shear_modulus      G, Pa
+ *   sound_speed        longitudinal wave speed sqrt((K0 + 4G/3)/rho0), m/s,
+ *                      K0 the EOS's bulk modulus at rho0
+ *   yield_stress       sigma_y (perfectly plastic) or Johnson-Cook A, Pa
+ *   hardening_b        Johnson-Cook B, Pa
+ *   hardening_n        Johnson-Cook n
+ *   plane_stress_nu    nu/(1 - nu): eps_zz rate factor in plane stress
+ *   eos_c0, eos_s      Mie-Gruneisen / polynomial C (m/s) and S
+ *   eos_gamma0         Gruneisen Gamma0
+ *   eos_p0             polynomial EOS p0, Pa
+ *   jc_rate_c          Johnson-Cook C
+ *   jc_reference_rate  Johnson-Cook reference strain rate, 1/s
+ *   jc_thermal_m       Johnson-Cook m (0: no thermal softening)
+ *   melt_temperature   T_melt, K
+ *   room_temperature   T_room (initial temperature), K
+ *   heat_capacity      c_p, J/(kg K)
+ *   taylor_quinney     fraction of plastic work that heats
+ *   spare              keeps the count even */
+#define SPH_MATERIAL_REALS(X)                                                                      \
+    X(density)                                                                                     \
+    X(bulk_modulus)                                                                                \
+    X(shear_modulus) X(sound_speed) X(yield_stress) X(hardening_b) X(hardening_n)                  \
+        X(plane_stress_nu) X(eos_c0) X(eos_s) X(eos_gamma0) X(eos_p0) X(jc_rate_c)                 \
+            X(jc_reference_rate) X(jc_thermal_m) X(melt_temperature) X(room_temperature)           \
+                X(heat_capacity) X(taylor_quinney) X(spare)
+#define SPH_DECLARE_REAL(name) real name;
 struct sph_material {
-    real density;         /* rho0, kg/m^3 */
-    real bulk_modulus;    /* K, Pa: linear EOS p = K (rho/rho0 - 1) */
-    real shear_modulus;   /* G, Pa */
-    real sound_speed;     /* longitudinal wave speed sqrt((K + 4G/3)/rho0), m/s */
-    real yield_stress;    /* sigma_y or Johnson-Cook A, Pa */
-    real hardening_b;     /* Johnson-Cook B, Pa */
-    real hardening_n;     /* Johnson-Cook n */
-    real plane_stress_nu; /* nu/(1 - nu): eps_zz rate factor in plane stress */
-    sph_int eos;          /* enum sph_eos_type */
-    sph_int strength;     /* enum sph_strength_type */
+    SPH_MATERIAL_REALS(SPH_DECLARE_REAL)
+    sph_int eos;      /* enum sph_eos_type */
+    sph_int strength; /* enum sph_strength_type */
     sph_int pad0, pad1;
 };
 

@@ -5,26 +5,15 @@
  * state (for the next pass 2).
  *
  * reads: velocity_gradient, density_rate, energy_rate, material, pressure (p^n);
- * updates: density_change, energy, deviatoric_stress, plastic_strain;
+ * updates: density_change, energy, deviatoric_stress, plastic_strain, temperature;
  * writes: rho (= rho0 + density_change), pressure, artificial_stress.
  */
 
 /* Equations of state take the compression mu = rho / rho0 - 1 computed from
  * the integrated density change: in single precision rho itself cannot hold
  * the per-step change of a stiff solid (1e-4 kg/m^3 against an ulp of 1e-3
- * at 7800 kg/m^3), its deviation from rho0 can. */
-
-/* Linear EOS, p = K mu. */
-static inline real pressure_linear(__constant const struct sph_material *m, real mu)
-{
-    return m->bulk_modulus * mu;
-}
-
-static inline real pressure_eos(__constant const struct sph_material *m, real mu, real energy)
-{
-    (void)energy; /* Mie-Gruneisen and polynomial forms arrive with the impact issue */
-    return pressure_linear(m, mu);
-}
+ * at 7800 kg/m^3), its deviation from rho0 can. The EOS and yield stress
+ * models are in material_models.cl. */
 
 /* Strain rate D = sym(L) and spin W = skew(L); in plane stress D_zz follows
  * from sigma_zz = 0 for Hooke's law: D_zz = -nu/(1-nu) (D_xx + D_yy). */
@@ -118,33 +107,51 @@ static inline void artificial_stress_tensor(real sigma[3][3], real density, real
 }
 #endif
 
-/* von Mises radial return (thesis eqs. 3.33-3.34): S <- S min(1, sigma_y /
- * sqrt(3 J2)), J2 = S:S / 2. Returns the equivalent stress after return. */
-static inline real radial_return(real s[3][3], real yield_stress)
+#ifdef SPH_PLASTICITY
+/* Equivalent strain rate sqrt(2/3 D':D'), 1/s: the rate in Johnson-Cook. */
+static inline real equivalent_strain_rate(real d[3][3])
 {
-    real j2 = 0;
+    const real trace_third = (d[0][0] + d[1][1] + d[2][2]) / (real)3;
+    real sum = 0;
     for (int a = 0; a < 3; ++a)
-        for (int b = 0; b < 3; ++b)
-            j2 += (real)0.5 * s[a][b] * s[a][b];
-    const real equivalent = sqrt((real)3 * j2);
-    if (equivalent > yield_stress && equivalent > 0) {
-        const real f = yield_stress / equivalent;
-        for (int a = 0; a < 3; ++a)
-            for (int b = 0; b < 3; ++b)
-                s[a][b] *= f;
-        return yield_stress;
-    }
-    return equivalent;
+        for (int b = 0; b < 3; ++b) {
+            const real dev = d[a][b] - (a == b ? trace_third : (real)0);
+            sum += dev * dev;
+        }
+    return sqrt((real)2 / (real)3 * sum);
 }
+
+/* Plastic correction of the trial deviatoric stress s (radial return to
+ * the current yield stress), the plastic strain increment, and the heating
+ * rho c_p dT = beta sigma_y d eps_p of Johnson-Cook materials. */
+static inline void plastic_correction(__constant const struct sph_material *m, real s[3][3],
+                                      real d[3][3], real density, __global real *plastic_strain,
+                                      __global real *temperature)
+{
+    const real yield = yield_stress_of(m, *plastic_strain, equivalent_strain_rate(d), *temperature);
+    real flat[9];
+    for (int k = 0; k < 9; ++k)
+        flat[k] = s[k / 3][k % 3];
+    const real increment = radial_return(flat, yield, m->shear_modulus);
+    if (increment <= 0)
+        return;
+    for (int k = 0; k < 9; ++k)
+        s[k / 3][k % 3] = flat[k];
+    *plastic_strain += increment;
+    if (m->strength == SPH_STRENGTH_JOHNSON_COOK)
+        *temperature += m->taylor_quinney * yield * increment / (density * m->heat_capacity);
+}
+#endif
 
 __kernel void material_update(
     __global real *restrict rho, __global real *restrict density_change,
     __global real *restrict energy, __global symt *restrict deviatoric_stress,
-    __global real *restrict plastic_strain, __global const fullt *restrict velocity_gradient,
-    __global const real *restrict density_rate, __global const real *restrict energy_rate,
-    __global const int *restrict material, __constant const struct sph_material *materials,
-    __constant const struct sph_run_params *run, const real dt, __global real *restrict pressure,
-    __global symt *restrict artificial_stress, const int n)
+    __global real *restrict plastic_strain, __global real *restrict temperature,
+    __global const fullt *restrict velocity_gradient, __global const real *restrict density_rate,
+    __global const real *restrict energy_rate, __global const int *restrict material,
+    __constant const struct sph_material *materials, __constant const struct sph_run_params *run,
+    const real dt, __global real *restrict pressure, __global symt *restrict artificial_stress,
+    const int n)
 {
     const int i = get_global_id(0);
     if (i >= n)
@@ -168,18 +175,11 @@ __kernel void material_update(
             s[a][b] += dt * rate[a][b];
         }
 #ifdef SPH_PLASTICITY
-    if (m->strength == SPH_STRENGTH_PERFECTLY_PLASTIC) {
-        real j2 = 0;
-        for (int a = 0; a < 3; ++a)
-            for (int b = 0; b < 3; ++b)
-                j2 += (real)0.5 * s[a][b] * s[a][b];
-        const real trial = sqrt((real)3 * j2);
-        radial_return(s, m->yield_stress);
-        if (trial > m->yield_stress) /* Wilkins (1964): d eps_p = (trial - sigma_y) / 3G */
-            plastic_strain[i] += (trial - m->yield_stress) / ((real)3 * m->shear_modulus);
-    }
+    if (m->strength != SPH_STRENGTH_ELASTIC)
+        plastic_correction(m, s, d, rho[i], &plastic_strain[i], &temperature[i]);
 #else
     (void)plastic_strain;
+    (void)temperature;
 #endif
     /* the second half of the mid-step power, with the stress after the
      * return (plastic work heats; in plane stress the return also scales

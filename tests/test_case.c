@@ -307,7 +307,16 @@ static const struct bad_input bad_inputs[] = {
              "  group: tip\n"
              "  quantity: displacement_z\n",
      20, "probe.quantity: expected displacement_x or displacement_y in 2-D"},
-    {"unsupported eos",
+    {"unknown eos",
+     "dimension: 2\n"
+     "materials:\n"
+     "  - name: steel\n"
+     "    density: 7800\n"
+     "    youngs_modulus: 210.0e9\n"
+     "    poisson_ratio: 0.3\n"
+     "    eos: tillotson\n",
+     7, "materials.0.eos: expected one of linear, mie_gruneisen, polynomial, got 'tillotson'"},
+    {"mie_gruneisen without its parameters",
      "dimension: 2\n"
      "materials:\n"
      "  - name: steel\n"
@@ -315,9 +324,28 @@ static const struct bad_input bad_inputs[] = {
      "    youngs_modulus: 210.0e9\n"
      "    poisson_ratio: 0.3\n"
      "    eos: mie_gruneisen\n",
-     7,
-     "materials.0.eos: expected linear (mie_gruneisen and polynomial are not supported yet), got "
-     "'mie_gruneisen'"},
+     3, "materials.0: missing required key 'mie_gruneisen' (eos is mie_gruneisen)"},
+    {"mie_gruneisen parameters with a linear eos",
+     "dimension: 2\n"
+     "materials:\n"
+     "  - name: steel\n"
+     "    density: 7800\n"
+     "    youngs_modulus: 210.0e9\n"
+     "    poisson_ratio: 0.3\n"
+     "    mie_gruneisen: {c0: 3630, s: 1.8, gamma0: 1.8}\n",
+     7, "materials.0.mie_gruneisen: only allowed when eos is mie_gruneisen"},
+    {"johnson_cook thermal softening without a melting point",
+     "dimension: 2\n"
+     "materials:\n"
+     "  - name: steel\n"
+     "    density: 7800\n"
+     "    youngs_modulus: 210.0e9\n"
+     "    poisson_ratio: 0.3\n"
+     "    strength: johnson_cook\n"
+     "    yield_stress: 792e6\n"
+     "    heat_capacity: 477\n"
+     "    johnson_cook: {b: 510e6, n: 0.26, m: 1.03}\n",
+     10, "materials.0.johnson_cook: missing required key 'melt_temperature'"},
     {"plastic without yield stress",
      "dimension: 2\n"
      "materials:\n"

@@ -39,8 +39,12 @@ static void make_case(struct sph_case *c, int dim)
     c->dimension = dim;
     c->thickness = 1.0;
     c->material_count = 1;
-    c->materials[0] =
-        (struct case_material){"m", 1000.0, 1e9, 0.3, SPH_EOS_LINEAR, SPH_STRENGTH_ELASTIC, 0.0};
+    c->materials[0] = (struct case_material){.name = "m",
+                                             .density = 1000.0,
+                                             .youngs_modulus = 1e9,
+                                             .poisson_ratio = 0.3,
+                                             .eos = SPH_EOS_LINEAR,
+                                             .strength = SPH_STRENGTH_ELASTIC};
     c->numerics.dx = 1.0;
     c->numerics.kernel = SPH_KERNEL_WENDLAND_C2;
     c->numerics.h_over_dx = 1.2;
