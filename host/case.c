@@ -43,7 +43,8 @@ enum flag {
     F_2D_ONLY = 2,   /* an error in 3-D; not written in 3-D */
     F_OMIT_ZERO = 4, /* only valid when positive, so 0 means "not given" */
     F_UNIQUE = 8,    /* unique among the items of the list */
-    F_ENABLE = 16    /* K_MAP: set the int at aux to 1 when the map is given */
+    F_ENABLE = 16,   /* K_MAP: set the int at aux to 1 when the map is given */
+    F_CYLINDER = 32  /* a body key of cylinders only: not written for other shapes */
 };
 enum ref_kind { REF_MATERIAL, REF_BODY, REF_GROUP };
 
@@ -100,7 +101,8 @@ _Static_assert(ARRAY_LEN(kernel_names) == SPH_KERNEL_COUNT + 1, "one name per ke
 static const char *const plane_names[] = {"stress", "strain", NULL};
 static const char *const eos_names[] = {"linear", "mie_gruneisen", "polynomial", NULL};
 static const char *const strength_names[] = {"elastic", "perfectly_plastic", "johnson_cook", NULL};
-static const char *const shape_names[] = {"box", NULL};
+static const char *const shape_names[] = {"box", "cylinder", NULL};
+static const char *const axis_names[] = {"x", "y", "z", NULL};
 static const char *const law_names[] = {"constant", "linear_ramp", "quadratic_ramp", NULL};
 static const char *const quantity_names[] = {"displacement_x", "displacement_y", "displacement_z",
                                              NULL};
@@ -748,7 +750,29 @@ static int check_box(struct ctx *x, const struct frame *fr, const struct case_bo
 
 static int check_body(struct ctx *x, const struct frame *fr, void *base)
 {
-    return check_box(x, fr, &((struct case_body *)base)->box);
+    struct case_body *b = base;
+    if (check_box(x, fr, &b->box))
+        return 1;
+    const int cylinder = b->shape == SPH_SHAPE_CYLINDER;
+    if (needed_exactly(x, fr, "radius", cylinder, "shape is cylinder"))
+        return 1;
+    if (!cylinder && (given(fr, "axis") || given(fr, "inner_radius") || given(fr, "centre"))) {
+        const char *key = given(fr, "axis")     ? "axis"
+                          : given(fr, "centre") ? "centre"
+                                                : "inner_radius";
+        return fail(x, line_of(fr, key), subkey(x, key), "only allowed when shape is cylinder");
+    }
+    if (cylinder && x->c->dimension == 2 && b->axis != 2)
+        return fail(x, line_of(fr, "axis"), subkey(x, "axis"),
+                    "expected z in 2-D (the cylinder is a disk in the x-y plane)");
+    if (cylinder && !(b->inner_radius < b->radius))
+        return fail(x, line_of(fr, "inner_radius"), subkey(x, "inner_radius"),
+                    "expected less than radius (%g m), got %g", b->radius, b->inner_radius);
+    b->has_centre = given(fr, "centre") != 0;
+    if (!b->has_centre)
+        for (int a = 0; a < 3; ++a)
+            b->centre[a] = a < x->c->dimension ? 0.5 * (b->box.min[a] + b->box.max[a]) : 0.0;
+    return 0;
 }
 
 static int check_group(struct ctx *x, const struct frame *fr, void *base)
@@ -766,6 +790,20 @@ static int check_load(struct ctx *x, const struct frame *fr, void *base)
     if (!ramp && given(fr, "ramp_time"))
         return fail(x, line_of(fr, "ramp_time"), subkey(x, "ramp_time"),
                     "only allowed with law linear_ramp or quadratic_ramp");
+    return 0;
+}
+
+static int check_wall(struct ctx *x, const struct frame *fr, void *base)
+{
+    struct case_wall *w = base;
+    double norm = 0;
+    for (int a = 0; a < 3; ++a)
+        norm += w->normal[a] * w->normal[a];
+    norm = sqrt(norm);
+    if (!(norm > 0))
+        return fail(x, line_of(fr, "normal"), subkey(x, "normal"), "expected a non-zero vector");
+    for (int a = 0; a < 3; ++a)
+        w->normal[a] /= norm;
     return 0;
 }
 
@@ -945,6 +983,10 @@ static const struct field body_fields[] = {
     STRING("name", struct case_body, name, F_REQUIRED | F_UNIQUE, K_NAME),
     REF("material", struct case_body, material, F_REQUIRED, REF_MATERIAL, 0),
     ENUM("shape", struct case_body, shape, 0, SPH_SHAPE_BOX, shape_names, NULL),
+    ENUM("axis", struct case_body, axis, F_CYLINDER, 2, axis_names, NULL),
+    NUMBER("radius", struct case_body, radius, F_OMIT_ZERO, R_POSITIVE, 0, 0, 0, "m"),
+    NUMBER("inner_radius", struct case_body, inner_radius, F_CYLINDER, R_NONNEG, 0, 0, 0, "m"),
+    VECTOR("centre", struct case_body, centre, F_CYLINDER, 0, "m", NULL),
     VECTOR("min", struct case_body, box.min, F_REQUIRED, 0, "m", NULL),
     VECTOR("max", struct case_body, box.max, F_REQUIRED, 0, "m", NULL),
     BOOL("fixed", struct case_body, fixed),
@@ -967,6 +1009,14 @@ static const struct field group_fields[] = {
     MAP("load", F_ENABLE, offsetof(struct case_group, load),
         offsetof(struct case_group, load.enabled), load_schema),
 };
+
+static const struct field wall_fields[] = {
+    STRING("name", struct case_wall, name, F_REQUIRED | F_UNIQUE, K_NAME),
+    VECTOR("point", struct case_wall, point, F_REQUIRED, 0, "m", NULL),
+    VECTOR("normal", struct case_wall, normal, F_REQUIRED, 0, NULL, NULL),
+    NUMBER("friction", struct case_wall, friction, 0, R_NONNEG, 0, 0, 0, NULL),
+};
+static const struct schema wall_schema = SCHEMA(wall_fields, struct case_wall, check_wall);
 
 static const struct field viscosity_fields[] = {
     NUMBER("alpha", struct case_numerics, av_alpha, 0, R_NONNEG, 0, 0, 0.1, NULL),
@@ -1036,6 +1086,7 @@ static const struct field case_fields[] = {
          material_schema),
     LIST("bodies", struct sph_case, bodies, body_count, F_REQUIRED, 1, SPH_MAX_BODIES, body_schema),
     LIST("groups", struct sph_case, groups, group_count, 0, 0, SPH_MAX_BODIES, group_schema),
+    LIST("walls", struct sph_case, walls, wall_count, 0, 0, SPH_MAX_WALLS, wall_schema),
     MAP("numerics", F_REQUIRED, offsetof(struct sph_case, numerics), 0, numerics_schema),
     MAP("output", 0, offsetof(struct sph_case, output), 0, output_schema),
     MAP("probe", F_ENABLE, offsetof(struct sph_case, probe), offsetof(struct sph_case, has_probe),
@@ -1353,6 +1404,8 @@ static int written(const struct sph_case *c, const struct field *f, const char *
     if ((f->flags & F_2D_ONLY) && c->dimension != 2)
         return 0;
     if ((f->flags & F_OMIT_ZERO) && *(const double *)p == 0)
+        return 0;
+    if ((f->flags & F_CYLINDER) && ((const struct case_body *)base)->shape != SPH_SHAPE_CYLINDER)
         return 0;
     if (f->kind == K_REF && *(const int *)p < 0)
         return 0;

@@ -59,7 +59,8 @@ int output_open(struct output *o, const char *folder, const struct sph_case *c, 
     }
     fprintf(o->history,
             "time_s,step,dt_s,%s_m,kinetic_energy_J,internal_energy_J,external_work_J,"
-            "total_energy_J,momentum_x_kg_m_s,momentum_y_kg_m_s,momentum_z_kg_m_s,max_speed_m_s\n",
+            "total_energy_J,momentum_x_kg_m_s,momentum_y_kg_m_s,momentum_z_kg_m_s,max_speed_m_s,"
+            "wall_force_x_N,wall_force_y_N,wall_force_z_N,wall_work_J\n",
             o->probe_name);
     o->snapshot_times = malloc(sizeof(double) * SPH_MAX_SNAPSHOTS);
     return o->snapshot_times ? 0 : 1;
@@ -67,10 +68,12 @@ int output_open(struct output *o, const char *folder, const struct sph_case *c, 
 
 void output_history(struct output *o, const struct history_row *r)
 {
-    fprintf(o->history, "%.9e,%ld,%.6e,%.9e,%.9e,%.9e,%.9e,%.9e,%.6e,%.6e,%.6e,%.6e\n", r->time,
-            r->step, r->dt, r->probe, r->kinetic, r->internal, r->external_work,
-            r->kinetic + r->internal - r->external_work, r->momentum[0], r->momentum[1],
-            r->momentum[2], r->max_speed);
+    fprintf(o->history,
+            "%.9e,%ld,%.6e,%.9e,%.9e,%.9e,%.9e,%.9e,%.6e,%.6e,%.6e,%.6e,%.6e,%.6e,%.6e,%.9e\n",
+            r->time, r->step, r->dt, r->probe, r->kinetic, r->internal, r->external_work,
+            r->kinetic + r->internal - r->external_work - r->wall_work, r->momentum[0],
+            r->momentum[1], r->momentum[2], r->max_speed, r->wall_force[0], r->wall_force[1],
+            r->wall_force[2], r->wall_work);
 }
 
 static int write_dataset(hid_t file, const char *name, hid_t type, const void *data, hsize_t rows,
@@ -239,6 +242,14 @@ int output_summary(struct output *o, const struct run_summary *s)
         json_number(f, "reference_m", s->reference, 0);
         json_number(f, "error_final", s->reference_error_final, 0);
         json_number(f, "e_av", s->reference_e_av, 0);
+    }
+    if (s->has_wall) {
+        json_number(f, "final_length_m", s->final_length_m, 0);
+        json_number(f, "footprint_radius_m", s->footprint_radius_m, 0);
+    }
+    if (s->has_plasticity) {
+        json_number(f, "max_plastic_strain", s->max_plastic_strain, 0);
+        json_number(f, "max_temperature_K", s->max_temperature_K, 0);
     }
     const int healthy =
         strcmp(s->status, "completed") == 0 && !(s->max_neighbour_loss_fraction > 0);

@@ -28,6 +28,8 @@ struct history_row {
     double kinetic, internal, external_work;
     double momentum[3];
     double max_speed;
+    double wall_force[3]; /* on the walls, mean since the previous row, N */
+    double wall_work;     /* work of the wall forces on the particles so far, J */
 };
 
 /* The figures a run ends with (summary line and summary.json). */
@@ -46,6 +48,11 @@ struct run_summary {
                             kinetic + internal) */
     double max_neighbour_loss_fraction; /* particles that lost over a third of their initial
                                            neighbours, largest over the snapshots */
+    int has_wall;                       /* impact figures against walls[0] */
+    double final_length_m;              /* extent along the wall normal + dx/2 */
+    double footprint_radius_m;          /* largest distance from the axis in the first layer */
+    int has_plasticity;
+    double max_plastic_strain, max_temperature_K;
 };
 
 /* Creates the folder (and parents), writes case.resolved.yaml and opens

@@ -34,6 +34,8 @@ struct loop {
     long window_steps;
     int *initial_neighbours, *neighbours;
     double max_neighbour_loss;
+    double wall_work, wall_impulse[3], impulse_since_row_time; /* J, N s, s */
+    double final_length, footprint_radius, max_plastic_strain, max_temperature;
     struct reduction red;
     char message[1024];
     const char *status;
@@ -81,7 +83,13 @@ static void write_history(struct loop *L)
                               .external_work = L->external_work,
                               .max_speed = L->red.max_speed};
     memcpy(row.momentum, L->red.momentum, sizeof row.momentum);
+    row.wall_work = L->wall_work;
+    for (int a = 0; a < 3; ++a) /* the reaction on the walls */
+        row.wall_force[a] =
+            L->impulse_since_row_time > 0 ? -L->wall_impulse[a] / L->impulse_since_row_time : 0.0;
     output_history(L->out, &row);
+    memset(L->wall_impulse, 0, sizeof L->wall_impulse);
+    L->impulse_since_row_time = 0;
 }
 
 static void measure_integrity(struct loop *L)
@@ -93,12 +101,55 @@ static void measure_integrity(struct loop *L)
     L->max_neighbour_loss = fmax(L->max_neighbour_loss, (double)lost / L->s->n);
 }
 
+/* Impact figures from a snapshot: the body's extent along walls[0]'s
+ * normal and the radius of its lowest layer (particles within dx/2 of the
+ * lowest) around the axis through the wall's point, both plus dx/2 per
+ * side so the initial lattice gives the box's dimensions (a bar that
+ * rebounds off the wall is measured the same way), and the largest plastic
+ * strain and temperature. */
+static void measure_impact(struct loop *L, const struct host_fields *f)
+{
+    const double dx = L->c->numerics.dx;
+    for (int p = 0; p < f->n; ++p) {
+        L->max_plastic_strain = fmax(L->max_plastic_strain, f->plastic_strain[p]);
+        L->max_temperature = fmax(L->max_temperature, f->temperature[p]);
+    }
+    if (L->c->wall_count == 0)
+        return;
+    const struct case_wall *w = &L->c->walls[0];
+    double lowest = HUGE_VAL, highest = -HUGE_VAL, radius = 0;
+    for (int pass = 0; pass < 2; ++pass)
+        for (int p = 0; p < f->n; ++p) {
+            if (f->flags[p] & SPH_FLAG_FIXED)
+                continue;
+            double r[3], height = 0;
+            for (int a = 0; a < 3; ++a) {
+                r[a] = f->pos[3 * p + a] - w->point[a];
+                height += r[a] * w->normal[a];
+            }
+            if (pass == 0) {
+                lowest = fmin(lowest, height);
+                highest = fmax(highest, height);
+            } else if (height < lowest + 0.5 * dx) {
+                double lateral = 0;
+                for (int a = 0; a < 3; ++a) {
+                    const double t = r[a] - height * w->normal[a];
+                    lateral += t * t;
+                }
+                radius = fmax(radius, sqrt(lateral));
+            }
+        }
+    L->final_length = highest - lowest + dx;
+    L->footprint_radius = radius + 0.5 * dx;
+}
+
 static int write_snapshot(struct loop *L)
 {
     struct host_fields f;
     char error[512];
     solver_read_fields(L->s, &f);
     const int status = output_snapshot(L->out, &f, L->t, L->step, error, sizeof error);
+    measure_impact(L, &f);
     host_fields_free(&f);
     if (status)
         fprintf(stderr, "sph: %s\n", error);
@@ -155,7 +206,7 @@ static int check_health(struct loop *L)
 
 static double total_energy(const struct loop *L)
 {
-    return L->red.kinetic + L->red.internal - L->external_work;
+    return L->red.kinetic + L->red.internal - L->external_work - L->wall_work;
 }
 
 static int one_step(struct loop *L)
@@ -183,6 +234,10 @@ static int one_step(struct loop *L)
     ++L->step;
     solver_reduce(L->s, load, &L->red);
     L->external_work += L->red.load_power * L->dt; /* F(t^n) . v^(n+1/2) dt */
+    L->wall_work += L->red.wall_power * L->dt;     /* f(x^n) . v^(n+1/2) dt, as the load */
+    for (int a = 0; a < 3; ++a)
+        L->wall_impulse[a] += L->red.wall_force[a] * L->dt;
+    L->impulse_since_row_time += L->dt;
     L->energy_scale =
         fmax(L->energy_scale, fmax(fabs(L->external_work), L->red.kinetic + fabs(L->red.internal)));
     L->energy_excursion = fmax(L->energy_excursion, fabs(total_energy(L) - L->energy_start));
@@ -216,6 +271,13 @@ static void finish_summary(struct loop *L, struct run_summary *sum)
     sum->reference_e_av = L->window_steps ? L->window_error_sum / L->window_steps : NAN;
     sum->energy_drift = L->energy_scale > 0 ? L->energy_excursion / L->energy_scale : 0;
     sum->max_neighbour_loss_fraction = L->max_neighbour_loss;
+    sum->has_wall = L->c->wall_count > 0;
+    sum->final_length_m = L->final_length;
+    sum->footprint_radius_m = L->footprint_radius;
+    for (int m = 0; m < L->c->material_count; ++m)
+        sum->has_plasticity |= L->c->materials[m].strength != SPH_STRENGTH_ELASTIC;
+    sum->max_plastic_strain = L->max_plastic_strain;
+    sum->max_temperature_K = L->max_temperature;
 }
 
 static void print_summary_line(const struct run_summary *sum, const char *folder)

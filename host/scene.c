@@ -36,6 +36,20 @@ static int inside(const struct case_box *box, const double *x, int dim)
     return 1;
 }
 
+/* Whether a lattice point of the body's box belongs to its shape. */
+static int in_shape(const struct case_body *b, const double *x, int dim)
+{
+    if (b->shape != SPH_SHAPE_CYLINDER)
+        return 1;
+    double r2 = 0;
+    for (int a = 0; a < dim; ++a)
+        if (a != b->axis) {
+            const double d = x[a] - b->centre[a];
+            r2 += d * d;
+        }
+    return r2 <= b->radius * b->radius && r2 >= b->inner_radius * b->inner_radius;
+}
+
 static int allocate(struct sph_scene *s, int n)
 {
     s->position = calloc((size_t)n * 3, sizeof(double));
@@ -64,10 +78,15 @@ static int fill_bodies(const struct sph_case *c, struct sph_scene *s, int *body_
                         : 0.0;
         for (int k = 0; k < counts[2]; ++k)
             for (int j = 0; j < counts[1]; ++j)
-                for (int i = 0; i < counts[0]; ++i, ++n) {
+                for (int i = 0; i < counts[0]; ++i) {
                     const int idx[3] = {i, j, k};
+                    double x[3];
+                    for (int a = 0; a < 3; ++a)
+                        x[a] = a < dim ? start[a] + idx[a] * dx : 0.0;
+                    if (!in_shape(body, x, dim))
+                        continue;
                     for (int a = 0; a < 3; ++a) {
-                        s->position[3 * n + a] = a < dim ? start[a] + idx[a] * dx : 0.0;
+                        s->position[3 * n + a] = x[a];
                         s->velocity[3 * n + a] = body->fixed ? 0.0 : body->velocity[a];
                     }
                     s->density[n] = m->density;
@@ -75,6 +94,7 @@ static int fill_bodies(const struct sph_case *c, struct sph_scene *s, int *body_
                     s->material[n] = body->material;
                     s->flags[n] = body->fixed ? SPH_FLAG_FIXED : 0;
                     body_of[n] = b;
+                    ++n;
                 }
     }
     return n;
@@ -151,6 +171,20 @@ int scene_build(const struct sph_case *c, struct sph_scene *s, char *error, size
         return 1;
     }
     s->count = fill_bodies(c, s, body_of);
+    for (int b = 0; b < c->body_count; ++b) {
+        int members = 0;
+        for (int p = 0; p < s->count; ++p)
+            members += body_of[p] == b;
+        if (members == 0) {
+            snprintf(error, error_size,
+                     "%s: body '%s' holds no particle: its shape contains no lattice point at "
+                     "dx = %g m",
+                     c->path, c->bodies[b].name, c->numerics.dx);
+            free(body_of);
+            scene_free(s);
+            return 1;
+        }
+    }
     const int status = apply_groups(c, s, body_of, error, error_size);
     free(body_of);
     if (status) {

@@ -53,6 +53,7 @@ enum field {
     FIELD_ACCELERATION,
     FIELD_ENERGY_RATE,
     FIELD_XSPH_VELOCITY,
+    FIELD_WALL_FORCE,
     FIELD_COUNT
 };
 
@@ -84,16 +85,22 @@ struct reduction {
     double load_power, kinetic, internal;
     double probe_displacement[3];
     double momentum[3];
+    double
+        wall_force[3]; /* on the particles from the walls, N (per m of thickness in 2-D: scaled) */
+    double wall_power; /* wall forces . velocities, W */
 };
 
 struct solver {
     struct sph_device *dev;
     int dim, n, padded_n, double_precision;
     int total_lagrangian; /* numerics.formulation; the grid is then sorted once */
+    double dx;            /* lattice spacing, m */
     size_t element_size[ELEM_COUNT];
     cl_mem field[FIELD_COUNT];
     cl_mem spare[ELEM_COUNT];
     cl_mem sort_keys, cell_start, cell_end, partials, bounds_partials, materials, run_params;
+    cl_mem walls; /* struct sph_wall[wall_count] (at least one entry's worth) */
+    int wall_count;
     int reduce_groups;
     struct grid grid;
     struct kernels k;

@@ -33,6 +33,7 @@ const struct field_info field_table[FIELD_COUNT] = {
     [FIELD_ACCELERATION] = {"acceleration", ELEM_VEC},
     [FIELD_ENERGY_RATE] = {"energy_rate", ELEM_REAL},
     [FIELD_XSPH_VELOCITY] = {"xsph_velocity", ELEM_VEC},
+    [FIELD_WALL_FORCE] = {"wall_force", ELEM_VEC},
 };
 
 void solver_build_options(const struct sph_case *c, char *options, size_t size)
@@ -208,6 +209,38 @@ double solver_max_sound_speed(const struct sph_case *c)
     return c_max;
 }
 
+/* The walls in the device layout; gap = dx / 2. */
+static void upload_walls(struct solver *s, const struct sph_case *c)
+{
+    struct {
+#define SPH_DECLARE_DOUBLE(name) cl_double name;
+        SPH_WALL_REALS(SPH_DECLARE_DOUBLE)
+#undef SPH_DECLARE_DOUBLE
+    } wide[SPH_MAX_WALLS];
+    struct sph_wall narrow[SPH_MAX_WALLS];
+    memset(wide, 0, sizeof wide);
+    memset(narrow, 0, sizeof narrow);
+    for (int w = 0; w < c->wall_count; ++w) {
+        const struct case_wall *cw = &c->walls[w];
+        wide[w].point_x = cw->point[0], wide[w].point_y = cw->point[1];
+        wide[w].point_z = cw->point[2];
+        wide[w].normal_x = cw->normal[0], wide[w].normal_y = cw->normal[1];
+        wide[w].normal_z = cw->normal[2];
+        wide[w].friction = cw->friction;
+        wide[w].gap = 0.5 * c->numerics.dx;
+#define SPH_NARROW(name) narrow[w].name = (real)wide[w].name;
+        SPH_WALL_REALS(SPH_NARROW)
+#undef SPH_NARROW
+    }
+    s->wall_count = c->wall_count;
+    if (c->wall_count == 0)
+        return;
+    const void *table = s->double_precision ? (const void *)wide : (const void *)narrow;
+    const size_t entry = s->double_precision ? sizeof wide[0] : sizeof narrow[0];
+    CL_CHECK(clEnqueueWriteBuffer(s->dev->queue, s->walls, CL_TRUE, 0,
+                                  entry * (size_t)c->wall_count, table, 0, NULL, NULL));
+}
+
 static void upload_run_params(struct solver *s)
 {
     const double v[11] = {
@@ -261,6 +294,7 @@ int solver_create_buffers(struct solver *s, const struct sph_case *c, const stru
     s->bounds_partials = create_buffer(s, s->element_size[ELEM_REAL] * 6 * s->reduce_groups);
     s->materials = create_buffer(s, sizeof(struct material_double) * SPH_MAX_MATERIALS);
     s->run_params = create_buffer(s, 8 * 16);
+    s->walls = create_buffer(s, sizeof(cl_double) * 8 * SPH_MAX_WALLS);
 
     upload_vectors(s, s->field[FIELD_POS], scene->position, s->n);
     upload_vectors(s, s->field[FIELD_POS0], scene->position, s->n);
@@ -298,6 +332,7 @@ void solver_upload_constants(struct solver *s, const struct sph_case *c)
 {
     upload_materials(s, c);
     upload_run_params(s);
+    upload_walls(s, c);
 }
 
 static void release(cl_mem *m)
@@ -320,6 +355,7 @@ void solver_release_buffers(struct solver *s)
     release(&s->bounds_partials);
     release(&s->materials);
     release(&s->run_params);
+    release(&s->walls);
 }
 
 /* Reads a field as doubles, `width` reals per particle. */

@@ -174,6 +174,7 @@ int solver_create(struct solver *s, struct sph_device *dev, const struct sph_cas
     s->n = scene->count;
     s->double_precision = c->numerics.double_precision;
     s->total_lagrangian = c->numerics.total_lagrangian;
+    s->dx = c->numerics.dx;
     s->padded_n = LOCAL_SIZE; /* the bitonic launch covers at least one work-group */
     while (s->padded_n < s->n)
         s->padded_n <<= 1;
@@ -440,15 +441,17 @@ void solver_prime(struct solver *s)
 void solver_step(struct solver *s, double dt, double dt_prev, const double load[3])
 {
     cl_mem *f = s->field;
-    struct real_arg a_dt, a_prev;
+    struct real_arg a_dt, a_prev, a_dx;
     struct real4_arg a_load;
     if (s->total_lagrangian)
         tl_momentum(s);
     else
         pass2(s);
     SET_ARGS(s->k.kick, MEM(f[FIELD_VEL]), MEM(f[FIELD_VEL_HALF]), MEM(f[FIELD_ACCELERATION]),
-             MEM(f[FIELD_MASS]), MEM(f[FIELD_FLAGS]), MEM(s->run_params), real_value(s, &a_dt, dt),
-             real_value(s, &a_prev, dt_prev), real4_value(s, &a_load, load), INT(s->n));
+             MEM(f[FIELD_MASS]), MEM(f[FIELD_FLAGS]), MEM(f[FIELD_POS]), MEM(f[FIELD_MATERIAL]),
+             MEM(s->materials), MEM(s->run_params), MEM(s->walls), INT(s->wall_count),
+             real_value(s, &a_dx, s->dx), real_value(s, &a_dt, dt), real_value(s, &a_prev, dt_prev),
+             real4_value(s, &a_load, load), MEM(f[FIELD_WALL_FORCE]), INT(s->n));
     launch(s, s->k.kick, (size_t)s->n, 0);
     deformation_and_material(s, dt);
     SET_ARGS(s->k.drift, MEM(f[FIELD_POS]), MEM(f[FIELD_DISPLACEMENT]), MEM(f[FIELD_POS0]),
@@ -473,7 +476,9 @@ static void combine_partials(const struct solver *s, const double *v, struct red
         for (int a = 0; a < 3; ++a) {
             out->probe_displacement[a] += p[SPH_RED_PROBE_DISP_X + a];
             out->momentum[a] += p[SPH_RED_MOMENTUM_X + a];
+            out->wall_force[a] += p[SPH_RED_WALL_FORCE_X + a];
         }
+        out->wall_power += p[SPH_RED_WALL_POWER];
     }
     out->bad_id = bad < (double)s->n ? (long)bad : -1;
     for (int a = 0; a < 3; ++a)
@@ -482,8 +487,11 @@ static void combine_partials(const struct solver *s, const double *v, struct red
     out->load_power *= s->thickness_scale;
     out->kinetic *= s->thickness_scale;
     out->internal *= s->thickness_scale;
-    for (int a = 0; a < 3; ++a)
+    out->wall_power *= s->thickness_scale;
+    for (int a = 0; a < 3; ++a) {
         out->momentum[a] *= s->thickness_scale;
+        out->wall_force[a] *= s->thickness_scale;
+    }
 }
 
 void solver_reduce(struct solver *s, const double load[3], struct reduction *out)
@@ -493,8 +501,8 @@ void solver_reduce(struct solver *s, const double load[3], struct reduction *out
     SET_ARGS(s->k.reduce, MEM(f[FIELD_POS]), MEM(f[FIELD_POS_AT_SORT]), MEM(f[FIELD_DISPLACEMENT]),
              MEM(f[FIELD_VEL_HALF]), MEM(f[FIELD_XSPH_VELOCITY]), MEM(f[FIELD_MASS]),
              MEM(f[FIELD_ENERGY]), MEM(f[FIELD_RHO]), MEM(f[FIELD_FLAGS]), MEM(f[FIELD_MATERIAL]),
-             MEM(f[FIELD_ID]), MEM(s->materials), MEM(s->run_params), real4_value(s, &a_load, load),
-             MEM(s->partials), INT(s->n));
+             MEM(f[FIELD_ID]), MEM(f[FIELD_WALL_FORCE]), MEM(s->materials), MEM(s->run_params),
+             real4_value(s, &a_load, load), MEM(s->partials), INT(s->n));
     launch(s, s->k.reduce, (size_t)s->reduce_groups * REDUCE_GROUP_SIZE, REDUCE_GROUP_SIZE);
     const size_t count = (size_t)s->reduce_groups * SPH_RED_SLOTS;
     double values[64 * SPH_RED_SLOTS];
@@ -514,8 +522,8 @@ void solver_reduce(struct solver *s, const double load[3], struct reduction *out
 void solver_neighbour_counts(struct solver *s, int *count_by_id)
 {
     const cl_int4 dims = {{s->grid.dims[0], s->grid.dims[1], s->grid.dims[2], 0}};
-    SET_ARGS(s->k.neighbour_count, MEM(s->field[FIELD_POS]), GRID_ARG_LIST(s, dims),
-             MEM(s->run_params), MEM(s->spare[ELEM_INT]), INT(s->n));
+    SET_ARGS(s->k.neighbour_count, MEM(s->field[FIELD_POS]), MEM(s->field[FIELD_POS0]),
+             GRID_ARG_LIST(s, dims), MEM(s->run_params), MEM(s->spare[ELEM_INT]), INT(s->n));
     launch(s, s->k.neighbour_count, (size_t)s->n, 0);
     int *count = malloc(sizeof(int) * (size_t)s->n), *id = malloc(sizeof(int) * (size_t)s->n);
     CL_CHECK(clEnqueueReadBuffer(s->dev->queue, s->spare[ELEM_INT], CL_TRUE, 0,

@@ -14,6 +14,7 @@
 #define SPH_PATH_MAX 1024
 #define SPH_MAX_MATERIALS 8
 #define SPH_MAX_BODIES 16
+#define SPH_MAX_WALLS 4
 #define SPH_MAX_SETS 64
 #define SPH_ERROR_MAX 1024
 
@@ -25,7 +26,7 @@ enum sph_load_law {
     SPH_LOAD_QUADRATIC_RAMP = 2, /* F (t / t_ramp)^2 until t_ramp, then F */
 };
 
-enum sph_shape { SPH_SHAPE_BOX = 0 };
+enum sph_shape { SPH_SHAPE_BOX = 0, SPH_SHAPE_CYLINDER = 1 };
 
 enum sph_probe_quantity {
     SPH_PROBE_DISPLACEMENT_X = 0,
@@ -82,10 +83,15 @@ struct case_load {
 struct case_body {
     char name[SPH_NAME_MAX];
     int material;         /* index into case.materials */
-    enum sph_shape shape; /* "box" */
+    enum sph_shape shape; /* "box" or "cylinder" (the box cut to a cylinder; a disk in 2-D) */
     struct case_box box;  /* the shape's extent; filled on a lattice of numerics.dx */
-    int fixed;            /* every particle of the body has zero velocity */
-    double velocity[3];   /* initial velocity, m/s, default 0 */
+    int axis;             /* cylinder axis: 0 x, 1 y, 2 z (default; the only one in 2-D) */
+    double radius;        /* cylinder radius, m */
+    double inner_radius;  /* hollow cylinder (tube, ring), m, default 0 */
+    double centre[3];     /* a point of the axis, m; default the box centre */
+    int has_centre;
+    int fixed;          /* every particle of the body has zero velocity */
+    double velocity[3]; /* initial velocity, m/s, default 0 */
 };
 
 /* A named group of particles: those of `body` (or any body if body < 0)
@@ -109,11 +115,20 @@ struct case_numerics {
     double xsph_epsilon;         /* default 0 (off) */
     int csph;                    /* default 0 */
     int total_lagrangian;        /* formulation: 0 updated_lagrangian (default), 1 total */
-    double hourglass;            /* total Lagrangian hourglass control coefficient, default 0 */
+    double hourglass;            /* total Lagrangian hourglass control coefficient, default 10 */
     double cfl;                  /* default 0.3 */
     double end_time;             /* s, required */
     double damping;              /* 1/s, default 0 */
     int double_precision;        /* default 0 */
+};
+
+/* A rigid plane: particles stay on the side the normal points to, their
+ * centres at least dx/2 from the plane (kernels/integrate.cl). */
+struct case_wall {
+    char name[SPH_NAME_MAX];
+    double point[3];  /* m, a point of the plane (Taylor summary: where the bar's axis meets it) */
+    double normal[3]; /* towards the material; normalised on load */
+    double friction;  /* Coulomb coefficient, default 0 (frictionless) */
 };
 
 struct case_output {
@@ -146,6 +161,8 @@ struct sph_case {
     int body_count;
     struct case_body bodies[SPH_MAX_BODIES];
     int group_count;
+    struct case_wall walls[SPH_MAX_WALLS];
+    int wall_count;
     struct case_group groups[SPH_MAX_BODIES];
     struct case_numerics numerics;
     struct case_output output;

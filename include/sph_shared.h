@@ -84,16 +84,26 @@ enum sph_flag {
 #define SPH_MATERIAL_REALS(X)                                                                      \
     X(density)                                                                                     \
     X(bulk_modulus)                                                                                \
-    X(shear_modulus) X(sound_speed) X(yield_stress) X(hardening_b) X(hardening_n)                  \
-        X(plane_stress_nu) X(eos_c0) X(eos_s) X(eos_gamma0) X(eos_p0) X(jc_rate_c)                 \
-            X(jc_reference_rate) X(jc_thermal_m) X(melt_temperature) X(room_temperature)           \
-                X(heat_capacity) X(taylor_quinney) X(spare)
+    X(shear_modulus)                                                                               \
+    X(sound_speed)                                                                                 \
+    X(yield_stress) X(hardening_b) X(hardening_n) X(plane_stress_nu) X(eos_c0) X(eos_s)            \
+        X(eos_gamma0) X(eos_p0) X(jc_rate_c) X(jc_reference_rate) X(jc_thermal_m)                  \
+            X(melt_temperature) X(room_temperature) X(heat_capacity) X(taylor_quinney) X(spare)
 #define SPH_DECLARE_REAL(name) real name;
 struct sph_material {
     SPH_MATERIAL_REALS(SPH_DECLARE_REAL)
     sph_int eos;      /* enum sph_eos_type */
     sph_int strength; /* enum sph_strength_type */
     sph_int pad0, pad1;
+};
+
+/* A rigid wall (plane) as the kick sees it: point and unit normal (towards
+ * the material), Coulomb friction coefficient, and the distance from the
+ * plane below which a particle centre is pushed back (dx / 2, m). */
+#define SPH_WALL_REALS(X)                                                                          \
+    X(point_x) X(point_y) X(point_z) X(normal_x) X(normal_y) X(normal_z) X(friction) X(gap)
+struct sph_wall {
+    SPH_WALL_REALS(SPH_DECLARE_REAL)
 };
 
 /* Run constants that do not change during a run. */
@@ -131,7 +141,11 @@ enum sph_reduce_slot {
     SPH_RED_MOMENTUM_X = 11, /* sum m v, kg m/s */
     SPH_RED_MOMENTUM_Y = 12,
     SPH_RED_MOMENTUM_Z = 13,
-    SPH_RED_SLOTS = 16
+    SPH_RED_WALL_FORCE_X = 14, /* sum of the wall forces on the particles, N */
+    SPH_RED_WALL_FORCE_Y = 15,
+    SPH_RED_WALL_FORCE_Z = 16,
+    SPH_RED_WALL_POWER = 17, /* sum f_wall . v, W */
+    SPH_RED_SLOTS = 18
 };
 
 #endif /* SPH_SHARED_H */

@@ -16,17 +16,56 @@
  * velocity damping (-c v) of quasi-static runs; fixed particles stay still.
  */
 
-/* reads acceleration, mass, flags; updates vel_half; writes vel. */
+/* Rigid walls as a stiff penalty (a contact spring per particle): a particle
+ * whose centre comes closer than gap = dx/2 to the plane (its half-spacing,
+ * so the material's face lies on the plane) is pushed back with
+ * f = k (gap - d) n, k = m c^2 / dx^2: the spring's frequency c/dx keeps the
+ * explicit step stable at CFL <= 1 and the penetration small (v dx / c at
+ * speed v, sigma dx / (rho c^2) under a stress sigma). The force is
+ * conservative, so impact energy goes into the spring and comes back
+ * instead of being lost as with a velocity reset; its work is counted
+ * (kernels/reduce.cl) like the load's. Coulomb friction opposes the
+ * tangential velocity with at most friction * |f_n|, and never more than
+ * stops the particle in one step. Returns the force over the mass. */
+static inline vec wall_acceleration(vec x, vec v, real sound_speed, real dx, real dt,
+                                    __constant const struct sph_wall *walls, int wall_count)
+{
+    vec a = VEC_ZERO;
+    for (int w = 0; w < wall_count; ++w) {
+        __constant const struct sph_wall *wall = &walls[w];
+        const vec normal = vec_make(wall->normal_x, wall->normal_y, wall->normal_z);
+        const real depth =
+            wall->gap - dot(x - vec_make(wall->point_x, wall->point_y, wall->point_z), normal);
+        if (depth <= 0)
+            continue;
+        const real a_n = sound_speed * sound_speed * depth / (dx * dx);
+        a += a_n * normal;
+        const vec tangential = v - dot(v, normal) * normal;
+        const real speed_t = length(tangential);
+        if (wall->friction > 0 && speed_t > 0)
+            a -= fmin(wall->friction * a_n, speed_t / dt) / speed_t * tangential;
+    }
+    return a;
+}
+
+/* reads acceleration, mass, flags, pos, material; updates vel_half; writes
+ * vel, wall_force (on the particle, N or N/m in 2-D). */
 __kernel void integrate_kick(__global vec *restrict vel, __global vec *restrict vel_half,
                              __global const vec *restrict acceleration,
                              __global const real *restrict mass, __global const int *restrict flags,
-                             __constant const struct sph_run_params *run, const real dt,
-                             const real dt_prev, const real4 load_force, const int n)
+                             __global const vec *restrict pos,
+                             __global const int *restrict material,
+                             __constant const struct sph_material *materials,
+                             __constant const struct sph_run_params *run,
+                             __constant const struct sph_wall *walls, const int wall_count,
+                             const real dx, const real dt, const real dt_prev,
+                             const real4 load_force, __global vec *restrict wall_force, const int n)
 {
     const int i = get_global_id(0);
     if (i >= n)
         return;
     const int flag = flags[i];
+    wall_force[i] = VEC_ZERO;
     if (flag & SPH_FLAG_FIXED) {
         vel[i] = VEC_ZERO;
         vel_half[i] = VEC_ZERO;
@@ -35,6 +74,12 @@ __kernel void integrate_kick(__global vec *restrict vel, __global vec *restrict 
     vec a = acceleration[i] - run->damping * vel[i];
     if (flag & SPH_FLAG_LOADED)
         a += vec_make(load_force.x, load_force.y, load_force.z) / mass[i];
+    if (wall_count > 0) {
+        const vec a_wall = wall_acceleration(
+            pos[i], vel_half[i], materials[material[i]].sound_speed, dx, dt, walls, wall_count);
+        a += a_wall;
+        wall_force[i] = mass[i] * a_wall;
+    }
     const vec v_half = vel_half[i] + ((real)0.5 * (dt_prev + dt)) * a;
     vel_half[i] = v_half;
     vel[i] = v_half + ((real)0.5 * dt) * a;

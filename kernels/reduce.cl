@@ -6,7 +6,7 @@
  * Velocities are the half-step ones the positions moved with, so the load
  * power times dt is the exact work of the step's load.
  * reads: pos, pos_at_sort, displacement, vel_half, xsph_velocity, mass, energy, rho, flags,
- * material, id; writes: partials.
+ * material, id, wall_force; writes: partials.
  */
 static inline bool slot_is_max(int slot)
 {
@@ -19,7 +19,8 @@ reduce_step(__global const vec *restrict pos, __global const vec *restrict pos_a
             __global const vec *restrict xsph_velocity, __global const real *restrict mass,
             __global const real *restrict energy, __global const real *restrict rho,
             __global const int *restrict flags, __global const int *restrict material,
-            __global const int *restrict id, __constant const struct sph_material *materials,
+            __global const int *restrict id, __global const vec *restrict wall_force,
+            __constant const struct sph_material *materials,
             __constant const struct sph_run_params *run, const real4 load_force,
             __global real *restrict partials, const int n)
 {
@@ -55,6 +56,13 @@ reduce_step(__global const vec *restrict pos, __global const vec *restrict pos_a
 #endif
             mine[SPH_RED_PROBE_COUNT] += 1;
         }
+        const vec fw = wall_force[i];
+        mine[SPH_RED_WALL_POWER] += dot(fw, v + xsph_velocity[i]); /* as the drift moves it */
+        mine[SPH_RED_WALL_FORCE_X] += fw.x;
+        mine[SPH_RED_WALL_FORCE_Y] += fw.y;
+#if SPH_DIM == 3
+        mine[SPH_RED_WALL_FORCE_Z] += fw.z;
+#endif
         mine[SPH_RED_MOMENTUM_X] += mass[i] * v.x;
         mine[SPH_RED_MOMENTUM_Y] += mass[i] * v.y;
 #if SPH_DIM == 3
@@ -82,10 +90,15 @@ reduce_step(__global const vec *restrict pos, __global const vec *restrict pos_a
             partials[get_group_id(0) * SPH_RED_SLOTS + k] = acc[0][k];
 }
 
-/* Neighbours within the support of each particle, for the integrity measure
- * (particles that lost more than half of their initial neighbours).
- * reads pos; writes neighbour_count. */
-__kernel void health_neighbour_count(__global const vec *restrict pos, GRID_ARGS,
+/* Neighbours of each particle, for the integrity measure (particles that
+ * lost more than a third of their initial neighbours). Updated Lagrangian:
+ * particles within the support. Total Lagrangian, where the interacting
+ * pairs never change: reference neighbours (within the support at t = 0)
+ * whose separation has not more than doubled, so that only a tear, not the
+ * finite strain of a whole body, counts as a loss.
+ * reads pos, pos0; writes neighbour_count. */
+__kernel void health_neighbour_count(__global const vec *restrict pos,
+                                     __global const vec *restrict pos0, GRID_ARGS,
                                      __constant const struct sph_run_params *run,
                                      __global int *restrict neighbour_count, const int n)
 {
@@ -98,7 +111,14 @@ __kernel void health_neighbour_count(__global const vec *restrict pos, GRID_ARGS
     FOR_EACH_NEIGHBOUR(i, j)
     {
         const vec d = xi - pos[j];
+#ifdef SPH_TOTAL_LAGRANGIAN
+        const vec d0 = pos0[i] - pos0[j];
+        const real r02 = dot(d0, d0);
+        c += (j != i && r02 < support2 && dot(d, d) <= (real)4 * r02) ? 1 : 0;
+#else
+        (void)pos0;
         c += (j != i && dot(d, d) < support2) ? 1 : 0;
+#endif
     }
     END_FOR_EACH_NEIGHBOUR
     neighbour_count[i] = c;
