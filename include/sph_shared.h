@@ -81,14 +81,13 @@ enum sph_flag {
  *   heat_capacity      c_p, J/(kg K)
  *   taylor_quinney     fraction of plastic work that heats
  *   spare              keeps the count even */
+/* clang-format off */
 #define SPH_MATERIAL_REALS(X)                                                                      \
-    X(density)                                                                                     \
-    X(bulk_modulus)                                                                                \
-    X(shear_modulus)                                                                               \
-    X(sound_speed)                                                                                 \
-    X(yield_stress) X(hardening_b) X(hardening_n) X(plane_stress_nu) X(eos_c0) X(eos_s)            \
-        X(eos_gamma0) X(eos_p0) X(jc_rate_c) X(jc_reference_rate) X(jc_thermal_m)                  \
-            X(melt_temperature) X(room_temperature) X(heat_capacity) X(taylor_quinney) X(spare)
+    X(density) X(bulk_modulus) X(shear_modulus) X(sound_speed) X(yield_stress) X(hardening_b)     \
+    X(hardening_n) X(plane_stress_nu) X(eos_c0) X(eos_s) X(eos_gamma0) X(eos_p0) X(jc_rate_c)     \
+    X(jc_reference_rate) X(jc_thermal_m) X(melt_temperature) X(room_temperature)                  \
+    X(heat_capacity) X(taylor_quinney) X(spare)
+/* clang-format on */
 #define SPH_DECLARE_REAL(name) real name;
 struct sph_material {
     SPH_MATERIAL_REALS(SPH_DECLARE_REAL)
@@ -100,8 +99,10 @@ struct sph_material {
 /* A rigid wall (plane) as the kick sees it: point and unit normal (towards
  * the material), Coulomb friction coefficient, and the distance from the
  * plane below which a particle centre is pushed back (dx / 2, m). */
+/* clang-format off */
 #define SPH_WALL_REALS(X)                                                                          \
     X(point_x) X(point_y) X(point_z) X(normal_x) X(normal_y) X(normal_z) X(friction) X(gap)
+/* clang-format on */
 struct sph_wall {
     SPH_WALL_REALS(SPH_DECLARE_REAL)
 };
