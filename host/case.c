@@ -807,6 +807,18 @@ static int check_wall(struct ctx *x, const struct frame *fr, void *base)
     return 0;
 }
 
+static int check_symmetry(struct ctx *x, const struct frame *fr, void *base)
+{
+    const struct case_symmetry *p = base;
+    if (p->axis >= x->c->dimension)
+        return fail(x, line_of(fr, "axis"), subkey(x, "axis"), "expected x or y in 2-D, got 'z'");
+    for (const struct case_symmetry *q = x->c->symmetry; q < p; ++q) /* the items before */
+        if (q->axis == p->axis)
+            return fail(x, line_of(fr, "axis"), subkey(x, "axis"),
+                        "one symmetry plane per axis, got a second on '%s'", axis_names[p->axis]);
+    return 0;
+}
+
 static int check_output(struct ctx *x, const struct frame *fr, void *base)
 {
     struct case_output *o = base;
@@ -1018,6 +1030,13 @@ static const struct field wall_fields[] = {
 };
 static const struct schema wall_schema = SCHEMA(wall_fields, struct case_wall, check_wall);
 
+static const struct field symmetry_fields[] = {
+    ENUM("axis", struct case_symmetry, axis, F_REQUIRED, 0, axis_names, NULL),
+    NUMBER("position", struct case_symmetry, position, 0, R_ANY, 0, 0, 0, "m"),
+};
+static const struct schema symmetry_schema =
+    SCHEMA(symmetry_fields, struct case_symmetry, check_symmetry);
+
 static const struct field viscosity_fields[] = {
     NUMBER("alpha", struct case_numerics, av_alpha, 0, R_NONNEG, 0, 0, 0.1, NULL),
     NUMBER("beta", struct case_numerics, av_beta, 0, R_NONNEG, 0, 0, 0.1, NULL),
@@ -1087,6 +1106,7 @@ static const struct field case_fields[] = {
     LIST("bodies", struct sph_case, bodies, body_count, F_REQUIRED, 1, SPH_MAX_BODIES, body_schema),
     LIST("groups", struct sph_case, groups, group_count, 0, 0, SPH_MAX_BODIES, group_schema),
     LIST("walls", struct sph_case, walls, wall_count, 0, 0, SPH_MAX_WALLS, wall_schema),
+    LIST("symmetry", struct sph_case, symmetry, symmetry_count, 0, 0, 3, symmetry_schema),
     MAP("numerics", F_REQUIRED, offsetof(struct sph_case, numerics), 0, numerics_schema),
     MAP("output", 0, offsetof(struct sph_case, output), 0, output_schema),
     MAP("probe", F_ENABLE, offsetof(struct sph_case, probe), offsetof(struct sph_case, has_probe),

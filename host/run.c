@@ -96,9 +96,9 @@ static void measure_integrity(struct loop *L)
 {
     solver_neighbour_counts(L->s, L->neighbours);
     int lost = 0;
-    for (int p = 0; p < L->s->n; ++p)
+    for (int p = 0; p < L->s->n_real; ++p)
         lost += 3 * L->neighbours[p] < 2 * L->initial_neighbours[p]; /* lost over a third */
-    L->max_neighbour_loss = fmax(L->max_neighbour_loss, (double)lost / L->s->n);
+    L->max_neighbour_loss = fmax(L->max_neighbour_loss, (double)lost / L->s->n_real);
 }
 
 /* Impact figures from a snapshot: the body's extent along walls[0]'s
@@ -254,7 +254,7 @@ static void finish_summary(struct loop *L, struct run_summary *sum)
     sum->status = L->status;
     sum->message = L->message;
     sum->precision = L->c->numerics.double_precision ? "double" : "float";
-    sum->particles = L->s->n;
+    sum->particles = L->s->n_real;
     sum->dimension = L->c->dimension;
     sum->steps = L->step;
     sum->end_time = L->t;
@@ -345,8 +345,8 @@ static int start(struct loop *L, char *error, size_t size)
     L->dt_initial = L->c->numerics.cfl * L->s->run.h / L->red.max_signal;
     L->dt = L->dt_cfl = L->dt_initial;
     L->energy_start = total_energy(L);
-    L->initial_neighbours = malloc(sizeof(int) * (size_t)L->s->n);
-    L->neighbours = malloc(sizeof(int) * (size_t)L->s->n);
+    L->initial_neighbours = malloc(sizeof(int) * (size_t)L->s->n_real);
+    L->neighbours = malloc(sizeof(int) * (size_t)L->s->n_real);
     solver_neighbour_counts(L->s, L->initial_neighbours);
     track_probe(L);
     write_history(L);

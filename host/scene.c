@@ -28,6 +28,23 @@ static double box_particles(const struct case_box *box, int dim, double dx, int 
     return total;
 }
 
+/* First lattice coordinate along axis a: centred in the box, or half a
+ * spacing from a face that lies on a symmetry plane, so that the lattice
+ * and its mirror image continue each other across the plane. */
+static double lattice_start(const struct sph_case *c, const struct case_box *box, int a, int count)
+{
+    const double dx = c->numerics.dx, tolerance = 1e-9 * (box->max[a] - box->min[a]);
+    for (int k = 0; k < c->symmetry_count; ++k) {
+        if (c->symmetry[k].axis != a)
+            continue;
+        if (fabs(box->min[a] - c->symmetry[k].position) <= tolerance)
+            return box->min[a] + 0.5 * dx;
+        if (fabs(box->max[a] - c->symmetry[k].position) <= tolerance)
+            return box->max[a] - 0.5 * dx - (count - 1) * dx;
+    }
+    return 0.5 * (box->min[a] + box->max[a]) - 0.5 * (count - 1) * dx;
+}
+
 static int inside(const struct case_box *box, const double *x, int dim)
 {
     for (int a = 0; a < dim; ++a)
@@ -73,9 +90,7 @@ static int fill_bodies(const struct sph_case *c, struct sph_scene *s, int *body_
         box_particles(&body->box, dim, dx, counts);
         double start[3];
         for (int a = 0; a < 3; ++a)
-            start[a] =
-                a < dim ? 0.5 * (body->box.min[a] + body->box.max[a]) - 0.5 * (counts[a] - 1) * dx
-                        : 0.0;
+            start[a] = a < dim ? lattice_start(c, &body->box, a, counts[a]) : 0.0;
         for (int k = 0; k < counts[2]; ++k)
             for (int j = 0; j < counts[1]; ++j)
                 for (int i = 0; i < counts[0]; ++i) {

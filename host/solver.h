@@ -57,9 +57,13 @@ enum field {
     FIELD_COUNT
 };
 
+/* How a ghost's copy of a field relates to its source's (kernels/ghost.cl). */
+enum mirror_kind { MIRROR_NONE, MIRROR_COPY, MIRROR_REFLECT, MIRROR_POSITION };
+
 struct field_info {
     const char *name;
     enum element_kind kind;
+    enum mirror_kind mirror;
 };
 extern const struct field_info field_table[FIELD_COUNT];
 
@@ -69,6 +73,18 @@ struct grid {
     int dims[3];
     int cell_count;
     int cell_capacity;
+};
+
+/* Mirror particles of the symmetry planes (host/ghost.c). */
+struct ghosts {
+    int plane_count;
+    int reflected[3]; /* 1 where a plane is normal to that axis */
+    double plane[3];  /* its coordinate, m */
+    double width;     /* particles this close to a plane get images, m */
+    int count;        /* ghosts in use */
+    int capacity;     /* slots for ghosts in every field buffer */
+    cl_mem source_id, mask, index_of_id;
+    cl_kernel index_kernel, id_keys, init, refresh[ELEM_COUNT];
 };
 
 struct kernels {
@@ -93,6 +109,9 @@ struct reduction {
 struct solver {
     struct sph_device *dev;
     int dim, n, padded_n, double_precision;
+    int n_real;   /* real particles; n = n_real + ghosts.count slots in use */
+    int capacity; /* slots in every field buffer */
+    struct ghosts ghosts;
     int total_lagrangian; /* numerics.formulation; the grid is then sorted once */
     double dx;            /* lattice spacing, m */
     size_t element_size[ELEM_COUNT];
@@ -148,6 +167,24 @@ struct host_fields {
     int *flags, *material;
 };
 int solver_read_fields(struct solver *s, struct host_fields *out);
+
+/* Symmetry-plane ghosts (host/ghost.c). solver_ghosts_setup sizes them from
+ * the scene before the buffers exist; solver_ghosts_rebuild regenerates
+ * them (compaction, images, first copy) before a cell sort and
+ * solver_ghosts_reindex maps ids to slots after it; solver_ghosts_refresh
+ * copies the fields listed (or all mirrored fields when fields is NULL). */
+void solver_ghosts_setup(struct solver *s, const struct sph_case *c, const struct sph_scene *scene);
+int solver_ghosts_create(struct solver *s, char *error, size_t error_size);
+int solver_ghosts_rebuild(struct solver *s, char *error, size_t error_size);
+void solver_ghosts_reindex(struct solver *s);
+void solver_ghosts_refresh(struct solver *s, const enum field *fields, int count);
+void solver_ghosts_release(struct solver *s);
+
+/* Shared launch helpers (host/step.c). */
+void solver_launch(struct solver *s, cl_kernel k, size_t global, size_t local);
+cl_kernel solver_make_kernel(struct solver *s, const char *name);
+void solver_bitonic_sort(struct solver *s);
+void solver_gather_persistent(struct solver *s);
 
 /* Neighbours within the support per particle, in original order (by id). */
 void solver_neighbour_counts(struct solver *s, int *count_by_id);

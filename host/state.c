@@ -7,33 +7,33 @@
 #include <string.h>
 
 const struct field_info field_table[FIELD_COUNT] = {
-    [FIELD_POS] = {"position", ELEM_VEC},
-    [FIELD_POS0] = {"initial_position", ELEM_VEC},
-    [FIELD_DISPLACEMENT] = {"displacement", ELEM_VEC},
-    [FIELD_VEL] = {"velocity", ELEM_VEC},
-    [FIELD_VEL_HALF] = {"velocity_half_step", ELEM_VEC},
-    [FIELD_DENSITY_CHANGE] = {"density_change", ELEM_REAL},
-    [FIELD_RHO] = {"density", ELEM_REAL},
-    [FIELD_ENERGY] = {"specific_internal_energy", ELEM_REAL},
-    [FIELD_STRESS] = {"deviatoric_stress", ELEM_SYMT},
-    [FIELD_PLASTIC_STRAIN] = {"plastic_strain", ELEM_REAL},
-    [FIELD_TEMPERATURE] = {"temperature", ELEM_REAL},
-    [FIELD_MASS] = {"mass", ELEM_REAL},
-    [FIELD_FLAGS] = {"flags", ELEM_INT},
-    [FIELD_MATERIAL] = {"material", ELEM_INT},
-    [FIELD_ID] = {"id", ELEM_INT},
-    [FIELD_POS_AT_SORT] = {"position_at_sort", ELEM_VEC},
-    [FIELD_VELOCITY_GRADIENT] = {"velocity_gradient", ELEM_FULLT},
-    [FIELD_DENSITY_RATE] = {"density_rate", ELEM_REAL},
-    [FIELD_CSPH] = {"csph_correction", ELEM_FULLT},
-    [FIELD_DEFORMATION_GRADIENT] = {"deformation_gradient", ELEM_FULLT},
-    [FIELD_FIRST_PIOLA] = {"first_piola_corrected", ELEM_FULLT},
-    [FIELD_PRESSURE] = {"pressure", ELEM_REAL},
-    [FIELD_ARTIFICIAL_STRESS] = {"artificial_stress", ELEM_SYMT},
-    [FIELD_ACCELERATION] = {"acceleration", ELEM_VEC},
-    [FIELD_ENERGY_RATE] = {"energy_rate", ELEM_REAL},
-    [FIELD_XSPH_VELOCITY] = {"xsph_velocity", ELEM_VEC},
-    [FIELD_WALL_FORCE] = {"wall_force", ELEM_VEC},
+    [FIELD_POS] = {"position", ELEM_VEC, MIRROR_POSITION},
+    [FIELD_POS0] = {"initial_position", ELEM_VEC, MIRROR_POSITION},
+    [FIELD_DISPLACEMENT] = {"displacement", ELEM_VEC, MIRROR_REFLECT},
+    [FIELD_VEL] = {"velocity", ELEM_VEC, MIRROR_REFLECT},
+    [FIELD_VEL_HALF] = {"velocity_half_step", ELEM_VEC, MIRROR_REFLECT},
+    [FIELD_DENSITY_CHANGE] = {"density_change", ELEM_REAL, MIRROR_COPY},
+    [FIELD_RHO] = {"density", ELEM_REAL, MIRROR_COPY},
+    [FIELD_ENERGY] = {"specific_internal_energy", ELEM_REAL, MIRROR_COPY},
+    [FIELD_STRESS] = {"deviatoric_stress", ELEM_SYMT, MIRROR_REFLECT},
+    [FIELD_PLASTIC_STRAIN] = {"plastic_strain", ELEM_REAL, MIRROR_COPY},
+    [FIELD_TEMPERATURE] = {"temperature", ELEM_REAL, MIRROR_COPY},
+    [FIELD_MASS] = {"mass", ELEM_REAL, MIRROR_COPY},
+    [FIELD_FLAGS] = {"flags", ELEM_INT, MIRROR_NONE},
+    [FIELD_MATERIAL] = {"material", ELEM_INT, MIRROR_COPY},
+    [FIELD_ID] = {"id", ELEM_INT, MIRROR_NONE},
+    [FIELD_POS_AT_SORT] = {"position_at_sort", ELEM_VEC, MIRROR_NONE},
+    [FIELD_VELOCITY_GRADIENT] = {"velocity_gradient", ELEM_FULLT, MIRROR_NONE},
+    [FIELD_DENSITY_RATE] = {"density_rate", ELEM_REAL, MIRROR_NONE},
+    [FIELD_CSPH] = {"csph_correction", ELEM_FULLT, MIRROR_REFLECT},
+    [FIELD_DEFORMATION_GRADIENT] = {"deformation_gradient", ELEM_FULLT, MIRROR_REFLECT},
+    [FIELD_FIRST_PIOLA] = {"first_piola_corrected", ELEM_FULLT, MIRROR_REFLECT},
+    [FIELD_PRESSURE] = {"pressure", ELEM_REAL, MIRROR_COPY},
+    [FIELD_ARTIFICIAL_STRESS] = {"artificial_stress", ELEM_SYMT, MIRROR_REFLECT},
+    [FIELD_ACCELERATION] = {"acceleration", ELEM_VEC, MIRROR_NONE},
+    [FIELD_ENERGY_RATE] = {"energy_rate", ELEM_REAL, MIRROR_NONE},
+    [FIELD_XSPH_VELOCITY] = {"xsph_velocity", ELEM_VEC, MIRROR_REFLECT},
+    [FIELD_WALL_FORCE] = {"wall_force", ELEM_VEC, MIRROR_NONE},
 };
 
 void solver_build_options(const struct sph_case *c, char *options, size_t size)
@@ -42,7 +42,10 @@ void solver_build_options(const struct sph_case *c, char *options, size_t size)
     int plastic = 0;
     for (int m = 0; m < c->material_count; ++m)
         plastic |= c->materials[m].strength != SPH_STRENGTH_ELASTIC;
-    snprintf(options, size, "-cl-std=CL1.2 -DSPH_DIM=%d -DSPH_KERNEL=%d%s%s%s%s%s%s%s",
+    /* -w: PoCL's compiler prints ABI notes (-Wpsabi) about float8/float16
+     * arguments on every first build; the sources are kept free of real
+     * warnings with clang -x cl -fsyntax-only -Wall (docs/ARCHITECTURE.md) */
+    snprintf(options, size, "-cl-std=CL1.2 -w -DSPH_DIM=%d -DSPH_KERNEL=%d%s%s%s%s%s%s%s",
              c->dimension, (int)num->kernel,
              c->dimension == 2 && c->plane == SPH_PLANE_STRESS ? " -DSPH_PLANE_STRESS" : "",
              num->csph ? " -DSPH_CSPH" : "",
@@ -64,7 +67,7 @@ int solver_field_used(const struct solver *s, enum field f)
 
 static size_t field_bytes(const struct solver *s, enum field f)
 {
-    return solver_field_used(s, f) ? s->element_size[field_table[f].kind] * (size_t)s->n : 0;
+    return solver_field_used(s, f) ? s->element_size[field_table[f].kind] * (size_t)s->capacity : 0;
 }
 
 size_t solver_bytes_per_particle(const struct solver *s)
@@ -267,12 +270,12 @@ static void upload_run_params(struct solver *s)
 int solver_create_buffers(struct solver *s, const struct sph_case *c, const struct sph_scene *scene,
                           char *error, size_t error_size)
 {
-    const size_t total = solver_bytes_per_particle(s) * (size_t)s->n;
+    const size_t total = solver_bytes_per_particle(s) * (size_t)s->capacity;
     if (total > s->dev->global_memory) {
         snprintf(error, error_size,
                  "the case needs %.2f GiB of device memory (%zu bytes x %d particles) but %s has "
                  "%.2f GiB; use a coarser dx (for PoCL, POCL_MEMORY_LIMIT=<GiB> raises the limit)",
-                 (double)total / (1 << 30), solver_bytes_per_particle(s), s->n, s->dev->name,
+                 (double)total / (1 << 30), solver_bytes_per_particle(s), s->capacity, s->dev->name,
                  (double)s->dev->global_memory / (1 << 30));
         return 1;
     }
@@ -288,7 +291,7 @@ int solver_create_buffers(struct solver *s, const struct sph_case *c, const stru
     for (int f = 0; f < FIELD_COUNT; ++f)
         s->field[f] = create_buffer(s, field_bytes(s, (enum field)f));
     for (int e = 0; e < ELEM_COUNT; ++e)
-        s->spare[e] = create_buffer(s, s->element_size[e] * (size_t)s->n);
+        s->spare[e] = create_buffer(s, s->element_size[e] * (size_t)s->capacity);
     s->sort_keys = create_buffer(s, sizeof(cl_ulong) * (size_t)s->padded_n);
     s->partials = create_buffer(s, s->element_size[ELEM_REAL] * SPH_RED_SLOTS * s->reduce_groups);
     s->bounds_partials = create_buffer(s, s->element_size[ELEM_REAL] * 6 * s->reduce_groups);
@@ -296,24 +299,24 @@ int solver_create_buffers(struct solver *s, const struct sph_case *c, const stru
     s->run_params = create_buffer(s, 8 * 16);
     s->walls = create_buffer(s, sizeof(cl_double) * 8 * SPH_MAX_WALLS);
 
-    upload_vectors(s, s->field[FIELD_POS], scene->position, s->n);
-    upload_vectors(s, s->field[FIELD_POS0], scene->position, s->n);
-    upload_vectors(s, s->field[FIELD_POS_AT_SORT], scene->position, s->n);
-    upload_vectors(s, s->field[FIELD_VEL], scene->velocity, s->n);
-    upload_vectors(s, s->field[FIELD_VEL_HALF], scene->velocity, s->n);
-    upload_reals(s, s->field[FIELD_RHO], scene->density, (size_t)s->n);
-    upload_reals(s, s->field[FIELD_MASS], scene->mass, (size_t)s->n);
-    upload_ints(s, s->field[FIELD_FLAGS], scene->flags, s->n);
-    upload_ints(s, s->field[FIELD_MATERIAL], scene->material, s->n);
-    int *ids = malloc(sizeof(int) * (size_t)s->n);
-    for (int p = 0; p < s->n; ++p)
+    upload_vectors(s, s->field[FIELD_POS], scene->position, s->n_real);
+    upload_vectors(s, s->field[FIELD_POS0], scene->position, s->n_real);
+    upload_vectors(s, s->field[FIELD_POS_AT_SORT], scene->position, s->n_real);
+    upload_vectors(s, s->field[FIELD_VEL], scene->velocity, s->n_real);
+    upload_vectors(s, s->field[FIELD_VEL_HALF], scene->velocity, s->n_real);
+    upload_reals(s, s->field[FIELD_RHO], scene->density, (size_t)s->n_real);
+    upload_reals(s, s->field[FIELD_MASS], scene->mass, (size_t)s->n_real);
+    upload_ints(s, s->field[FIELD_FLAGS], scene->flags, s->n_real);
+    upload_ints(s, s->field[FIELD_MATERIAL], scene->material, s->n_real);
+    int *ids = malloc(sizeof(int) * (size_t)s->n_real);
+    for (int p = 0; p < s->n_real; ++p)
         ids[p] = p;
-    upload_ints(s, s->field[FIELD_ID], ids, s->n);
+    upload_ints(s, s->field[FIELD_ID], ids, s->n_real);
     free(ids);
-    double *temperature = malloc(sizeof(double) * (size_t)s->n);
-    for (int p = 0; p < s->n; ++p)
+    double *temperature = malloc(sizeof(double) * (size_t)s->n_real);
+    for (int p = 0; p < s->n_real; ++p)
         temperature[p] = c->materials[scene->material[p]].room_temperature;
-    upload_reals(s, s->field[FIELD_TEMPERATURE], temperature, (size_t)s->n);
+    upload_reals(s, s->field[FIELD_TEMPERATURE], temperature, (size_t)s->n_real);
     free(temperature);
     static const enum field uploaded[] = {
         FIELD_POS,  FIELD_POS0,     FIELD_POS_AT_SORT, FIELD_VEL,         FIELD_VEL_HALF, FIELD_RHO,
@@ -430,9 +433,11 @@ int solver_read_fields(struct solver *s, struct host_fields *o)
     double *temperature = read_reals(s, FIELD_TEMPERATURE, 1);
     int *id = read_ints(s, FIELD_ID), *flags = read_ints(s, FIELD_FLAGS);
     int *mat = read_ints(s, FIELD_MATERIAL);
-    allocate_fields(o, s->n);
+    allocate_fields(o, s->n_real);
     for (int k = 0; k < s->n; ++k) {
         const int q = id[k]; /* back to the scene's particle order */
+        if (q >= s->n_real)
+            continue; /* a symmetry-plane ghost */
         for (int a = 0; a < s->dim; ++a) {
             o->pos[3 * q + a] = pos[(size_t)k * vw + a];
             o->vel[3 * q + a] = vel[(size_t)k * vw + a];

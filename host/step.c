@@ -93,6 +93,16 @@ static struct arg real4_value(const struct solver *s, struct real4_arg *holder, 
                                : RAW(sizeof(cl_float4), &holder->f);
 }
 
+cl_kernel solver_make_kernel(struct solver *s, const char *name)
+{
+    return make_kernel(s, name);
+}
+
+void solver_launch(struct solver *s, cl_kernel k, size_t global, size_t local)
+{
+    launch(s, k, global, local);
+}
+
 static void create_kernels(struct solver *s)
 {
     struct kernels *k = &s->k;
@@ -175,9 +185,6 @@ int solver_create(struct solver *s, struct sph_device *dev, const struct sph_cas
     s->double_precision = c->numerics.double_precision;
     s->total_lagrangian = c->numerics.total_lagrangian;
     s->dx = c->numerics.dx;
-    s->padded_n = LOCAL_SIZE; /* the bitonic launch covers at least one work-group */
-    while (s->padded_n < s->n)
-        s->padded_n <<= 1;
     s->reduce_groups = 64;
     s->skin = 0.2;
     s->thickness_scale = c->dimension == 2 ? c->thickness : 1.0;
@@ -189,15 +196,20 @@ int solver_create(struct solver *s, struct sph_device *dev, const struct sph_cas
     s->element_size[ELEM_SYMT] = (s->dim == 2 ? 4 : 8) * r;
     s->element_size[ELEM_FULLT] = (s->dim == 2 ? 4 : 16) * r;
     fill_run_params(s, c);
+    solver_ghosts_setup(s, c, scene);
+    s->padded_n = LOCAL_SIZE; /* the bitonic launch covers at least one work-group */
+    while (s->padded_n < s->capacity)
+        s->padded_n <<= 1;
     if (solver_create_buffers(s, c, scene, error, error_size))
         return 1;
     solver_upload_constants(s, c);
     create_kernels(s);
-    return 0;
+    return solver_ghosts_create(s, error, error_size);
 }
 
 void solver_release(struct solver *s)
 {
+    solver_ghosts_release(s);
     release_kernels(s);
     solver_release_buffers(s);
 }
@@ -284,6 +296,11 @@ static void sort_keys(struct solver *s)
              INT(s->padded_n), real4_value(s, &origin, s->grid.origin),
              real_value(s, &inv_cell, 1.0 / s->grid.cell_size), RAW(sizeof dims, &dims));
     launch(s, s->k.cell_keys, (size_t)s->padded_n, 0);
+    solver_bitonic_sort(s);
+}
+
+void solver_bitonic_sort(struct solver *s)
+{
     /* bitonic network: log2(N) (log2(N) + 1) / 2 compare-exchange stages */
     for (cl_uint k = 2; k <= (cl_uint)s->padded_n; k <<= 1)
         for (cl_uint j = k >> 1; j > 0; j >>= 1) {
@@ -304,7 +321,7 @@ static void cell_ranges(struct solver *s)
     launch(s, s->k.cell_ranges, (size_t)s->n, 0);
 }
 
-static void reorder_fields(struct solver *s)
+void solver_gather_persistent(struct solver *s)
 {
     for (int f = 0; f < FIELD_PERSISTENT_END; ++f) {
         if (!solver_field_used(s, (enum field)f))
@@ -317,6 +334,11 @@ static void reorder_fields(struct solver *s)
         s->field[f] = s->spare[kind];
         s->spare[kind] = swap;
     }
+}
+
+static void reorder_fields(struct solver *s)
+{
+    solver_gather_persistent(s);
     SET_ARGS(s->k.mark_sorted, MEM(s->field[FIELD_POS]), MEM(s->field[FIELD_POS_AT_SORT]),
              INT(s->n));
     launch(s, s->k.mark_sorted, (size_t)s->n, 0);
@@ -324,11 +346,12 @@ static void reorder_fields(struct solver *s)
 
 int solver_sort(struct solver *s, char *error, size_t error_size)
 {
-    if (layout_grid(s, error, error_size))
+    if (solver_ghosts_rebuild(s, error, error_size) || layout_grid(s, error, error_size))
         return 1;
     sort_keys(s);
     cell_ranges(s);
     reorder_fields(s);
+    solver_ghosts_reindex(s);
     return 0;
 }
 
@@ -421,6 +444,9 @@ static void tl_momentum(struct solver *s)
 /* Pass 1 and the stress-derived fields of the updated or total form. */
 static void deformation_and_material(struct solver *s, double dt)
 {
+    /* the kick changed the half-step velocity, pass 2 the XSPH velocity */
+    static const enum field moved[] = {FIELD_VEL_HALF, FIELD_XSPH_VELOCITY};
+    solver_ghosts_refresh(s, moved, 2);
     if (s->total_lagrangian) {
         tl_deformation(s, dt);
         material(s, dt);
@@ -443,6 +469,7 @@ void solver_step(struct solver *s, double dt, double dt_prev, const double load[
     cl_mem *f = s->field;
     struct real_arg a_dt, a_prev, a_dx;
     struct real4_arg a_load;
+    solver_ghosts_refresh(s, NULL, 0); /* the state the previous step left */
     if (s->total_lagrangian)
         tl_momentum(s);
     else
@@ -480,7 +507,7 @@ static void combine_partials(const struct solver *s, const double *v, struct red
         }
         out->wall_power += p[SPH_RED_WALL_POWER];
     }
-    out->bad_id = bad < (double)s->n ? (long)bad : -1;
+    out->bad_id = bad < (double)s->n_real ? (long)bad : -1;
     for (int a = 0; a < 3; ++a)
         out->probe_displacement[a] /= s->probe_count > 0 ? s->probe_count : 1;
     /* 2-D sums are per metre of thickness */
@@ -531,7 +558,8 @@ void solver_neighbour_counts(struct solver *s, int *count_by_id)
     CL_CHECK(clEnqueueReadBuffer(s->dev->queue, s->field[FIELD_ID], CL_TRUE, 0,
                                  sizeof(int) * (size_t)s->n, id, 0, NULL, NULL));
     for (int k = 0; k < s->n; ++k)
-        count_by_id[id[k]] = count[k];
+        if (id[k] < s->n_real)
+            count_by_id[id[k]] = count[k];
     free(count);
     free(id);
 }

@@ -131,6 +131,13 @@ struct case_wall {
     double friction;  /* Coulomb coefficient, default 0 (frictionless) */
 };
 
+/* A symmetry plane normal to a coordinate axis: mirror-image (ghost)
+ * particles stand in for the material beyond it (host/ghost.c). */
+struct case_symmetry {
+    int axis;        /* 0 x, 1 y, 2 z */
+    double position; /* the plane's coordinate on that axis, m, default 0 */
+};
+
 struct case_output {
     double snapshot_interval; /* s; default end_time / 20 */
     double history_interval;  /* s; default end_time / 1000 */
@@ -163,6 +170,8 @@ struct sph_case {
     int group_count;
     struct case_wall walls[SPH_MAX_WALLS];
     int wall_count;
+    struct case_symmetry symmetry[3];
+    int symmetry_count;
     struct case_group groups[SPH_MAX_BODIES];
     struct case_numerics numerics;
     struct case_output output;

@@ -54,7 +54,8 @@ enum sph_flag {
     SPH_FLAG_LOADED = 2,  /* carries the time-law external force */
     SPH_FLAG_PROBE = 4,   /* member of the probe group (mean displacement) */
     SPH_FLAG_DAMAGED = 8, /* failed: no deviatoric stress, no tension */
-    SPH_FLAG_BAD = 16     /* NaN or runaway velocity seen here */
+    SPH_FLAG_BAD = 16,    /* NaN or runaway velocity seen here */
+    SPH_FLAG_GHOST = 32   /* mirror image of a real particle (symmetry planes): not integrated */
 };
 
 /* Material constants, SI units, one entry per material, indexed by the

@@ -66,6 +66,8 @@ __kernel void integrate_kick(__global vec *restrict vel, __global vec *restrict 
         return;
     const int flag = flags[i];
     wall_force[i] = VEC_ZERO;
+    if (flag & SPH_FLAG_GHOST)
+        return;
     if (flag & SPH_FLAG_FIXED) {
         vel[i] = VEC_ZERO;
         vel_half[i] = VEC_ZERO;
@@ -96,7 +98,7 @@ __kernel void integrate_drift(__global vec *restrict pos, __global vec *restrict
                               __global const int *restrict flags, const real dt, const int n)
 {
     const int i = get_global_id(0);
-    if (i >= n || (flags[i] & SPH_FLAG_FIXED))
+    if (i >= n || (flags[i] & (SPH_FLAG_FIXED | SPH_FLAG_GHOST)))
         return;
     const vec u = displacement[i] + dt * (vel_half[i] + xsph_velocity[i]);
     displacement[i] = u;

@@ -32,9 +32,11 @@ reduce_step(__global const vec *restrict pos, __global const vec *restrict pos_a
     mine[SPH_RED_BAD_INDEX] = (real)INT_MAX;
     const vec f = vec_make(load_force.x, load_force.y, load_force.z);
     for (int i = get_global_id(0); i < n; i += get_global_size(0)) {
+        const int flag = flags[i];
+        if (flag & SPH_FLAG_GHOST)
+            continue;
         const vec v = vel_half[i], x = pos[i];
         const real speed = length(v);
-        const int flag = flags[i];
         mine[SPH_RED_MAX_SIGNAL] =
             fmax(mine[SPH_RED_MAX_SIGNAL], materials[material[i]].sound_speed + speed);
         mine[SPH_RED_MAX_SPEED] = fmax(mine[SPH_RED_MAX_SPEED], speed);

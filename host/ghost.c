@@ -1,0 +1,242 @@
+/* Symmetry planes through mirror (ghost) particles: which real particles
+ * get images, where the images live in the field buffers, and when they are
+ * copied (kernels/ghost.cl has the copies and the physics comment).
+ *
+ * Ghosts are rebuilt before every cell sort: the arrays are first compacted
+ * by id (reals in slots 0 .. n_real - 1, in their original order), the host
+ * reads the real positions and lists every image of a particle within
+ * `width` of one plane, two planes (and of their corner) or three, and the
+ * images take the slots after the reals. The cell sort then mixes them with
+ * the reals like any particle; index_of_id finds both again. */
+#include "solver.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Images of one position: every non-empty subset of the planes it is close
+ * to. Writes their masks, returns how many. */
+static int images(const struct ghosts *g, const double *x, int dim, int masks[7])
+{
+    int near = 0;
+    for (int a = 0; a < dim; ++a)
+        if (g->reflected[a] && fabs(x[a] - g->plane[a]) < g->width)
+            near |= 1 << a;
+    int count = 0;
+    for (int m = 1; m < 8; ++m)
+        if ((m & near) == m)
+            masks[count++] = m;
+    return count;
+}
+
+void solver_ghosts_setup(struct solver *s, const struct sph_case *c, const struct sph_scene *scene)
+{
+    struct ghosts *g = &s->ghosts;
+    memset(g, 0, sizeof *g);
+    for (int k = 0; k < c->symmetry_count; ++k) {
+        g->reflected[c->symmetry[k].axis] = 1;
+        g->plane[c->symmetry[k].axis] = c->symmetry[k].position;
+        ++g->plane_count;
+    }
+    s->n_real = scene->count;
+    s->capacity = scene->count;
+    if (g->plane_count == 0)
+        return;
+    /* the support plus the distance particles may move between sorts */
+    g->width = s->run.support * (1.0 + s->skin);
+    int initial = 0, masks[7];
+    for (int p = 0; p < scene->count; ++p)
+        initial += images(g, &scene->position[3 * p], c->dimension, masks);
+    /* room for the layer near the planes to thicken as the body deforms */
+    g->capacity = 2 * initial + 256;
+    s->capacity = scene->count + g->capacity;
+}
+
+int solver_ghosts_create(struct solver *s, char *error, size_t error_size)
+{
+    struct ghosts *g = &s->ghosts;
+    if (g->plane_count == 0)
+        return 0;
+    cl_int err = CL_SUCCESS;
+    g->source_id = clCreateBuffer(s->dev->context, CL_MEM_READ_WRITE,
+                                  sizeof(cl_int) * (size_t)g->capacity, NULL, &err);
+    CL_CHECK_ERR("clCreateBuffer(ghost_source_id)", err);
+    g->mask = clCreateBuffer(s->dev->context, CL_MEM_READ_WRITE,
+                             sizeof(cl_int) * (size_t)g->capacity, NULL, &err);
+    CL_CHECK_ERR("clCreateBuffer(ghost_mask)", err);
+    g->index_of_id = clCreateBuffer(s->dev->context, CL_MEM_READ_WRITE,
+                                    sizeof(cl_int) * (size_t)s->capacity, NULL, &err);
+    CL_CHECK_ERR("clCreateBuffer(index_of_id)", err);
+    g->index_kernel = solver_make_kernel(s, "ghost_index_of_id");
+    g->id_keys = solver_make_kernel(s, "ghost_id_keys");
+    g->init = solver_make_kernel(s, "ghost_init");
+    g->refresh[ELEM_REAL] = solver_make_kernel(s, "ghost_refresh_real");
+    g->refresh[ELEM_INT] = solver_make_kernel(s, "ghost_refresh_int");
+    g->refresh[ELEM_VEC] = solver_make_kernel(s, "ghost_refresh_vec");
+    g->refresh[ELEM_SYMT] = solver_make_kernel(s, "ghost_refresh_symt");
+    g->refresh[ELEM_FULLT] = solver_make_kernel(s, "ghost_refresh_fullt");
+    (void)error, (void)error_size;
+    return 0;
+}
+
+void solver_ghosts_release(struct solver *s)
+{
+    struct ghosts *g = &s->ghosts;
+    cl_mem *buffers[] = {&g->source_id, &g->mask, &g->index_of_id};
+    for (size_t k = 0; k < sizeof buffers / sizeof buffers[0]; ++k)
+        if (*buffers[k])
+            clReleaseMemObject(*buffers[k]);
+    cl_kernel *kernels[] = {&g->index_kernel, &g->id_keys, &g->init};
+    for (size_t k = 0; k < sizeof kernels / sizeof kernels[0]; ++k)
+        if (*kernels[k])
+            clReleaseKernel(*kernels[k]);
+    for (int e = 0; e < ELEM_COUNT; ++e)
+        if (g->refresh[e])
+            clReleaseKernel(g->refresh[e]);
+}
+
+static void set_arg(cl_kernel k, cl_uint index, size_t size, const void *value)
+{
+    CL_CHECK(clSetKernelArg(k, index, size, value));
+}
+
+void solver_ghosts_reindex(struct solver *s)
+{
+    struct ghosts *g = &s->ghosts;
+    if (g->plane_count == 0)
+        return;
+    set_arg(g->index_kernel, 0, sizeof(cl_mem), &s->field[FIELD_ID]);
+    set_arg(g->index_kernel, 1, sizeof(cl_mem), &g->index_of_id);
+    set_arg(g->index_kernel, 2, sizeof(cl_int), &s->n);
+    solver_launch(s, g->index_kernel, (size_t)s->n, 0);
+}
+
+/* Copies one field into the ghosts' slots. */
+static void refresh_field(struct solver *s, enum field f)
+{
+    struct ghosts *g = &s->ghosts;
+    const struct field_info *info = &field_table[f];
+    if (info->mirror == MIRROR_NONE || !solver_field_used(s, f) || g->count == 0)
+        return;
+    cl_kernel k = g->refresh[info->kind];
+    cl_uint a = 0;
+    set_arg(k, a++, sizeof(cl_mem), &s->field[f]);
+    set_arg(k, a++, sizeof(cl_mem), &g->source_id);
+    set_arg(k, a++, sizeof(cl_mem), &g->mask);
+    set_arg(k, a++, sizeof(cl_mem), &g->index_of_id);
+    set_arg(k, a++, sizeof(cl_int), &s->n_real);
+    set_arg(k, a++, sizeof(cl_int), &g->count);
+    if (info->kind == ELEM_VEC) {
+        const cl_int is_position = info->mirror == MIRROR_POSITION;
+        if (s->double_precision) {
+            cl_double4 plane = {{g->plane[0], g->plane[1], g->plane[2], 0}};
+            set_arg(k, a++, sizeof plane, &plane);
+        } else {
+            cl_float4 plane = {
+                {(cl_float)g->plane[0], (cl_float)g->plane[1], (cl_float)g->plane[2], 0}};
+            set_arg(k, a++, sizeof plane, &plane);
+        }
+        set_arg(k, a++, sizeof is_position, &is_position);
+    }
+    solver_launch(s, k, (size_t)g->count, 0);
+}
+
+void solver_ghosts_refresh(struct solver *s, const enum field *fields, int count)
+{
+    if (s->ghosts.plane_count == 0 || s->ghosts.count == 0)
+        return;
+    if (fields) {
+        for (int k = 0; k < count; ++k)
+            refresh_field(s, fields[k]);
+        return;
+    }
+    for (int f = 0; f < FIELD_COUNT; ++f)
+        refresh_field(s, (enum field)f);
+}
+
+/* Puts every particle in id order: reals in slots 0 .. n_real - 1. */
+static void compact(struct solver *s)
+{
+    struct ghosts *g = &s->ghosts;
+    set_arg(g->id_keys, 0, sizeof(cl_mem), &s->field[FIELD_ID]);
+    set_arg(g->id_keys, 1, sizeof(cl_mem), &s->sort_keys);
+    set_arg(g->id_keys, 2, sizeof(cl_int), &s->n);
+    set_arg(g->id_keys, 3, sizeof(cl_int), &s->padded_n);
+    solver_launch(s, g->id_keys, (size_t)s->padded_n, 0);
+    solver_bitonic_sort(s);
+    solver_gather_persistent(s);
+}
+
+/* Reads the real particles' positions (slots 0 .. n_real - 1 after the
+ * compaction) as doubles, 3 per particle. */
+static double *real_positions(struct solver *s)
+{
+    const int width = s->dim == 2 ? 2 : 4;
+    const size_t r = s->element_size[ELEM_REAL], count = (size_t)s->n_real * width;
+    unsigned char *raw = malloc(count * r + 1);
+    double *x = calloc((size_t)s->n_real * 3 + 1, sizeof(double));
+    CL_CHECK(clEnqueueReadBuffer(s->dev->queue, s->field[FIELD_POS], CL_TRUE, 0, count * r, raw, 0,
+                                 NULL, NULL));
+    for (int p = 0; p < s->n_real; ++p)
+        for (int a = 0; a < s->dim; ++a) {
+            const size_t k = (size_t)p * width + a;
+            if (s->double_precision)
+                memcpy(&x[3 * p + a], raw + k * r, r);
+            else {
+                float v;
+                memcpy(&v, raw + k * r, r);
+                x[3 * p + a] = v;
+            }
+        }
+    free(raw);
+    return x;
+}
+
+int solver_ghosts_rebuild(struct solver *s, char *error, size_t error_size)
+{
+    struct ghosts *g = &s->ghosts;
+    if (g->plane_count == 0)
+        return 0;
+    compact(s);
+    double *x = real_positions(s);
+    int *source = malloc(sizeof(int) * (size_t)g->capacity + 1);
+    int *mask = malloc(sizeof(int) * (size_t)g->capacity + 1);
+    int count = 0, overflow = 0, masks[7];
+    for (int p = 0; p < s->n_real; ++p) {
+        const int m = images(g, &x[3 * p], s->dim, masks);
+        for (int k = 0; k < m; ++k) {
+            if (count < g->capacity) {
+                source[count] = p; /* after the compaction the slot is the id */
+                mask[count] = masks[k];
+            } else
+                overflow = 1;
+            ++count;
+        }
+    }
+    free(x);
+    if (overflow) {
+        snprintf(error, error_size,
+                 "the symmetry planes need %d mirror particles but room was made for %d (the "
+                 "body spread along a symmetry plane far beyond its initial size)",
+                 count, g->capacity);
+        free(source), free(mask);
+        return 1;
+    }
+    g->count = count;
+    s->n = s->n_real + count;
+    if (count > 0) {
+        CL_CHECK(clEnqueueWriteBuffer(s->dev->queue, g->source_id, CL_TRUE, 0,
+                                      sizeof(int) * (size_t)count, source, 0, NULL, NULL));
+        CL_CHECK(clEnqueueWriteBuffer(s->dev->queue, g->mask, CL_TRUE, 0,
+                                      sizeof(int) * (size_t)count, mask, 0, NULL, NULL));
+        set_arg(g->init, 0, sizeof(cl_mem), &s->field[FIELD_ID]);
+        set_arg(g->init, 1, sizeof(cl_mem), &s->field[FIELD_FLAGS]);
+        set_arg(g->init, 2, sizeof(cl_int), &s->n_real);
+        set_arg(g->init, 3, sizeof(cl_int), &g->count);
+        solver_launch(s, g->init, (size_t)count, 0);
+    }
+    free(source), free(mask);
+    solver_ghosts_reindex(s);
+    solver_ghosts_refresh(s, NULL, 0);
+    return 0;
+}
