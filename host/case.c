@@ -98,7 +98,7 @@ static const char *const kernel_names[] = {
     "cubic_spline", "gaussian", "quintic_spline", "wendland_c2", "double_cosine",
     "hyperbolic",   NULL};
 _Static_assert(ARRAY_LEN(kernel_names) == SPH_KERNEL_COUNT + 1, "one name per kernel");
-static const char *const plane_names[] = {"stress", "strain", NULL};
+static const char *const plane_names[] = {"stress", "strain", "axisymmetric", NULL};
 static const char *const eos_names[] = {"linear", "mie_gruneisen", "polynomial", NULL};
 static const char *const strength_names[] = {"elastic", "perfectly_plastic", "johnson_cook", NULL};
 static const char *const shape_names[] = {"box", "cylinder", NULL};
@@ -878,6 +878,32 @@ static void default_name(const char *path, char *name, size_t size)
         snprintf(name, size, "case");
 }
 
+/* Axisymmetric (x = r, y = z): bodies at r >= 0, the axis a symmetry plane
+ * (added when the case does not list it), no total Lagrangian form. */
+static int check_axisymmetric(struct ctx *x, const struct frame *fr, struct sph_case *c)
+{
+    if (c->numerics.total_lagrangian)
+        return fail(x, line_of(fr, "plane"), "plane",
+                    "axisymmetric runs use formulation updated_lagrangian");
+    for (int b = 0; b < c->body_count; ++b)
+        if (c->bodies[b].box.min[0] < 0)
+            return fail(x, line_of(fr, "bodies"), "bodies",
+                        "expected r = x >= 0 in an axisymmetric case, body '%s' has min x = %g",
+                        c->bodies[b].name, c->bodies[b].box.min[0]);
+    for (int k = 0; k < c->symmetry_count; ++k)
+        if (c->symmetry[k].axis == 0) {
+            if (c->symmetry[k].position != 0)
+                return fail(x, line_of(fr, "symmetry"), "symmetry",
+                            "the axis of an axisymmetric case is x = 0, got x = %g",
+                            c->symmetry[k].position);
+            return 0;
+        }
+    c->symmetry[c->symmetry_count].axis = 0;
+    c->symmetry[c->symmetry_count].position = 0;
+    ++c->symmetry_count;
+    return 0;
+}
+
 static int check_case(struct ctx *x, const struct frame *fr, void *base)
 {
     struct sph_case *c = base;
@@ -886,7 +912,8 @@ static int check_case(struct ctx *x, const struct frame *fr, void *base)
     if (c->reference.enabled && !c->has_probe)
         return fail(x, line_of(fr, "reference"), "reference",
                     "needs a probe (add a probe map naming the group to compare)");
-    return 0;
+    return c->dimension == 2 && c->plane == SPH_PLANE_AXISYMMETRIC ? check_axisymmetric(x, fr, c)
+                                                                   : 0;
 }
 
 /* ---- the tables -------------------------------------------------------- */

@@ -82,6 +82,7 @@ static int fill_bodies(const struct sph_case *c, struct sph_scene *s, int *body_
 {
     const int dim = c->dimension;
     const double dx = c->numerics.dx;
+    const int axisymmetric = dim == 2 && c->plane == SPH_PLANE_AXISYMMETRIC;
     int n = 0;
     for (int b = 0; b < c->body_count; ++b) {
         const struct case_body *body = &c->bodies[b];
@@ -105,7 +106,8 @@ static int fill_bodies(const struct sph_case *c, struct sph_scene *s, int *body_
                         s->velocity[3 * n + a] = body->fixed ? 0.0 : body->velocity[a];
                     }
                     s->density[n] = m->density;
-                    s->mass[n] = m->density * pow(dx, dim);
+                    /* axisymmetric: the ring's mass per radian, rho0 r dx^2 */
+                    s->mass[n] = m->density * pow(dx, dim) * (axisymmetric ? x[0] : 1.0);
                     s->material[n] = body->material;
                     s->flags[n] = body->fixed ? SPH_FLAG_FIXED : 0;
                     body_of[n] = b;
@@ -152,8 +154,11 @@ static int apply_groups(const struct sph_case *c, struct sph_scene *s, const int
         if (group->load.enabled) {
             s->load = &group->load;
             s->loaded_count = members;
-            /* 2-D particles are per metre of thickness: so is their load */
-            const double per_length = c->dimension == 2 ? 1.0 / c->thickness : 1.0;
+            /* 2-D particles are per metre of thickness (axisymmetric: per
+             * radian): so is their load */
+            const double per_length = c->dimension != 2                    ? 1.0
+                                      : c->plane == SPH_PLANE_AXISYMMETRIC ? 0.5 / M_PI
+                                                                           : 1.0 / c->thickness;
             for (int a = 0; a < 3; ++a)
                 s->load_force[a] = group->load.force[a] * per_length;
         }

@@ -47,7 +47,9 @@ void solver_build_options(const struct sph_case *c, char *options, size_t size)
      * warnings with clang -x cl -fsyntax-only -Wall (docs/ARCHITECTURE.md) */
     snprintf(options, size, "-cl-std=CL1.2 -w -DSPH_DIM=%d -DSPH_KERNEL=%d%s%s%s%s%s%s%s",
              c->dimension, (int)num->kernel,
-             c->dimension == 2 && c->plane == SPH_PLANE_STRESS ? " -DSPH_PLANE_STRESS" : "",
+             c->dimension == 2 && c->plane == SPH_PLANE_STRESS         ? " -DSPH_PLANE_STRESS"
+             : c->dimension == 2 && c->plane == SPH_PLANE_AXISYMMETRIC ? " -DSPH_AXISYMMETRIC"
+                                                                       : "",
              num->csph ? " -DSPH_CSPH" : "",
              num->as_epsilon > 0
                  ? (num->as_lattice_weight ? " -DSPH_ARTIFICIAL_STRESS -DSPH_AS_LATTICE_WEIGHT"

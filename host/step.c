@@ -187,7 +187,9 @@ int solver_create(struct solver *s, struct sph_device *dev, const struct sph_cas
     s->dx = c->numerics.dx;
     s->reduce_groups = 64;
     s->skin = 0.2;
-    s->thickness_scale = c->dimension == 2 ? c->thickness : 1.0;
+    s->thickness_scale = c->dimension != 2                    ? 1.0
+                         : c->plane == SPH_PLANE_AXISYMMETRIC ? 2.0 * M_PI /* per radian */
+                                                              : c->thickness;
     s->probe_count = scene->probe_count;
     const size_t r = s->double_precision ? sizeof(cl_double) : sizeof(cl_float);
     s->element_size[ELEM_REAL] = r;
@@ -377,9 +379,9 @@ static void material(struct solver *s, double dt)
     SET_ARGS(s->k.material, MEM(f[FIELD_RHO]), MEM(f[FIELD_DENSITY_CHANGE]), MEM(f[FIELD_ENERGY]),
              MEM(f[FIELD_STRESS]), MEM(f[FIELD_PLASTIC_STRAIN]), MEM(f[FIELD_TEMPERATURE]),
              MEM(f[FIELD_VELOCITY_GRADIENT]), MEM(f[FIELD_DENSITY_RATE]), MEM(f[FIELD_ENERGY_RATE]),
-             MEM(f[FIELD_MATERIAL]), MEM(s->materials), MEM(s->run_params),
-             real_value(s, &a_dt, dt), MEM(f[FIELD_PRESSURE]), MEM(f[FIELD_ARTIFICIAL_STRESS]),
-             INT(s->n));
+             MEM(f[FIELD_MATERIAL]), MEM(f[FIELD_POS]), MEM(f[FIELD_VEL_HALF]), MEM(s->materials),
+             MEM(s->run_params), real_value(s, &a_dt, dt), MEM(f[FIELD_PRESSURE]),
+             MEM(f[FIELD_ARTIFICIAL_STRESS]), INT(s->n));
     launch(s, s->k.material, (size_t)s->n, 0);
 }
 

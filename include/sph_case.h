@@ -18,7 +18,7 @@
 #define SPH_MAX_SETS 64
 #define SPH_ERROR_MAX 1024
 
-enum sph_plane_mode { SPH_PLANE_STRESS = 0, SPH_PLANE_STRAIN = 1 };
+enum sph_plane_mode { SPH_PLANE_STRESS = 0, SPH_PLANE_STRAIN = 1, SPH_PLANE_AXISYMMETRIC = 2 };
 
 enum sph_load_law {
     SPH_LOAD_CONSTANT = 0,       /* F(t) = F */

@@ -220,6 +220,23 @@ static inline void matrix_invert_or_identity(real b[3][3], real c[3][3])
 #endif
 }
 
+/* A neighbour's mass as the sums over the plane weigh it. Axisymmetric
+ * (SPH_AXISYMMETRIC, x = r, y = z): the mass field holds the ring's mass
+ * per radian m = M / (2 pi) and the plane sums take m / r, so that
+ * sum_j (m_j / r_j) W_ij = rho and V_j = m_j / (r_j rho_j) is the area the
+ * ring covers in the (r, z) plane (the "Cartesian" axisymmetric SPH of
+ * Petschek & Libersky 1993, J. Comput. Phys. 109; hoop terms in pass 1,
+ * the material update and pass 2). Ghosts beyond the axis have r < 0. */
+static inline real plane_mass(real mass, vec x)
+{
+#ifdef SPH_AXISYMMETRIC
+    return mass / fabs(x.x);
+#else
+    (void)x;
+    return mass;
+#endif
+}
+
 /* Work-group size of the reduction kernels (grid bounds, per-step reduce). */
 #define REDUCE_WG 64
 

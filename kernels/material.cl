@@ -4,7 +4,8 @@
  * and energy, then the equation of state and the artificial stress of the new
  * state (for the next pass 2).
  *
- * reads: velocity_gradient, density_rate, energy_rate, material, pressure (p^n);
+ * reads: velocity_gradient, density_rate, energy_rate, material, pressure (p^n),
+ *        pos and vel_half (axisymmetric hoop rate);
  * updates: density_change, energy, deviatoric_stress, plastic_strain, temperature;
  * writes: rho (= rho0 + density_change), pressure, artificial_stress.
  */
@@ -149,6 +150,7 @@ __kernel void material_update(
     __global real *restrict plastic_strain, __global real *restrict temperature,
     __global const fullt *restrict velocity_gradient, __global const real *restrict density_rate,
     __global const real *restrict energy_rate, __global const int *restrict material,
+    __global const vec *restrict pos, __global const vec *restrict vel_half,
     __constant const struct sph_material *materials, __constant const struct sph_run_params *run,
     const real dt, __global real *restrict pressure, __global symt *restrict artificial_stress,
     const int n)
@@ -161,6 +163,12 @@ __kernel void material_update(
     symt_load(deviatoric_stress[i], s);
     fullt_load(velocity_gradient[i], l);
     strain_rate_and_spin(l, m->plane_stress_nu, d, w);
+#ifdef SPH_AXISYMMETRIC
+    d[2][2] = vel_half[i].x / pos[i].x; /* hoop strain rate v_r / r */
+#else
+    (void)pos;
+    (void)vel_half;
+#endif
     jaumann_stress_rate(s, d, w, m->shear_modulus, rate);
     /* stress power with the mid-step stress (sigma^n + sigma^(n+1)) / 2 and
      * the half-step strain rate: for an elastic solid this integrates the

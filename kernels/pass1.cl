@@ -41,7 +41,7 @@ __kernel void pass1_velocity_gradient(
         const real r2 = dot(xij, xij);
         if (j != i && r2 < support2) {
             const real r = sqrt(r2);
-            const real volume = mass[j] / rho[j];
+            const real volume = plane_mass(mass[j], pos[j]) / rho[j];
             const vec grad = (kernel_dwdr(r, h) / r) * xij; /* grad_i W_ij */
             const vec vji = vel[j] - vi;
             for (int a = 0; a < SPH_DIM; ++a)
@@ -69,6 +69,9 @@ __kernel void pass1_velocity_gradient(
     csph[i] = fullt_store(c);
 #endif
     real divergence = grad_v[0][0] + grad_v[1][1] + grad_v[2][2];
+#ifdef SPH_AXISYMMETRIC
+    divergence += vi.x / xi.x; /* hoop strain rate v_r / r */
+#endif
 #ifdef SPH_PLANE_STRESS
     /* sigma_zz = 0 needs eps_zz rate = -nu/(1-nu) (eps_xx + eps_yy) (Hooke) */
     divergence *= (real)1 - materials[material[i]].plane_stress_nu;

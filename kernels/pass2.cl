@@ -134,7 +134,7 @@ pass2_momentum_energy(__global const vec *restrict pos, __global const vec *rest
         if (j != i && r2 < support2) {
             const real r = sqrt(r2);
             const vec vij = vi - vel[j];
-            const real rho_j = rho[j], m_j = mass[j];
+            const real rho_j = rho[j], m_j = plane_mass(mass[j], pos[j]);
             const real rho_mean = (real)0.5 * (rho_i + rho_j);
             const real pi_ij = artificial_viscosity(
                 vij, xij, r2, h, (real)0.5 * (c_i + materials[material[j]].sound_speed), rho_mean,
@@ -192,6 +192,12 @@ pass2_momentum_energy(__global const vec *restrict pos, __global const vec *rest
         }
     }
     END_FOR_EACH_NEIGHBOUR
+#ifdef SPH_AXISYMMETRIC
+    /* the hoop terms of div sigma / rho in (r, z): (sigma_rr - sigma_tt) / r
+     * and sigma_rz / r (sigma_i holds sigma / rho_i) */
+    acc[0] += (sigma_i[0][0] - sigma_i[2][2]) / xi.x;
+    acc[1] += sigma_i[0][1] / xi.x;
+#endif
     acceleration[i] = vec_make(acc[0], acc[1], acc[2]);
     energy_rate[i] = de;
 #ifdef SPH_XSPH
