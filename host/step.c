@@ -366,9 +366,10 @@ static void pass1(struct solver *s)
     cl_mem *f = s->field;
     const cl_int4 dims = {{s->grid.dims[0], s->grid.dims[1], s->grid.dims[2], 0}};
     SET_ARGS(s->k.pass1, MEM(f[FIELD_POS]), MEM(f[FIELD_VEL_HALF]), MEM(f[FIELD_RHO]),
-             MEM(f[FIELD_MASS]), MEM(f[FIELD_MATERIAL]), GRID_ARG_LIST(s, dims), MEM(s->materials),
-             MEM(s->run_params), MEM(f[FIELD_VELOCITY_GRADIENT]), MEM(f[FIELD_DENSITY_RATE]),
-             MEM(f[FIELD_CSPH]), INT(s->n));
+             MEM(f[FIELD_MASS]), MEM(f[FIELD_MATERIAL]), MEM(f[FIELD_FLAGS]),
+             GRID_ARG_LIST(s, dims), MEM(s->materials), MEM(s->run_params),
+             MEM(f[FIELD_VELOCITY_GRADIENT]), MEM(f[FIELD_DENSITY_RATE]), MEM(f[FIELD_CSPH]),
+             INT(s->n));
     launch(s, s->k.pass1, (size_t)s->n, 0);
 }
 
@@ -392,7 +393,7 @@ static void pass2(struct solver *s)
     SET_ARGS(s->k.pass2, MEM(f[FIELD_POS]), MEM(f[FIELD_POS0]), MEM(f[FIELD_VEL]),
              MEM(f[FIELD_RHO]), MEM(f[FIELD_MASS]), MEM(f[FIELD_PRESSURE]), MEM(f[FIELD_STRESS]),
              MEM(f[FIELD_ARTIFICIAL_STRESS]), MEM(f[FIELD_CSPH]), MEM(f[FIELD_MATERIAL]),
-             GRID_ARG_LIST(s, dims), MEM(s->materials), MEM(s->run_params),
+             MEM(f[FIELD_FLAGS]), GRID_ARG_LIST(s, dims), MEM(s->materials), MEM(s->run_params),
              MEM(f[FIELD_ACCELERATION]), MEM(f[FIELD_ENERGY_RATE]), MEM(f[FIELD_XSPH_VELOCITY]),
              INT(s->n));
     launch(s, s->k.pass2, (size_t)s->n, 0);
@@ -416,9 +417,10 @@ static void tl_deformation(struct solver *s, double dt)
     struct real_arg a_dt;
     SET_ARGS(s->k.tl_deformation, MEM(f[FIELD_POS]), MEM(f[FIELD_POS0]), MEM(f[FIELD_VEL_HALF]),
              MEM(f[FIELD_XSPH_VELOCITY]), MEM(f[FIELD_MASS]), MEM(f[FIELD_RHO]),
-             MEM(f[FIELD_MATERIAL]), GRID_ARG_LIST(s, dims), MEM(s->materials), MEM(s->run_params),
-             MEM(f[FIELD_CSPH]), real_value(s, &a_dt, dt), MEM(f[FIELD_VELOCITY_GRADIENT]),
-             MEM(f[FIELD_DENSITY_RATE]), MEM(f[FIELD_DEFORMATION_GRADIENT]), INT(s->n));
+             MEM(f[FIELD_MATERIAL]), MEM(f[FIELD_FLAGS]), GRID_ARG_LIST(s, dims), MEM(s->materials),
+             MEM(s->run_params), MEM(f[FIELD_CSPH]), real_value(s, &a_dt, dt),
+             MEM(f[FIELD_VELOCITY_GRADIENT]), MEM(f[FIELD_DENSITY_RATE]),
+             MEM(f[FIELD_DEFORMATION_GRADIENT]), INT(s->n));
     launch(s, s->k.tl_deformation, (size_t)s->n, 0);
 }
 
@@ -437,9 +439,10 @@ static void tl_momentum(struct solver *s)
     const cl_int4 dims = {{s->grid.dims[0], s->grid.dims[1], s->grid.dims[2], 0}};
     SET_ARGS(s->k.tl_momentum, MEM(f[FIELD_POS]), MEM(f[FIELD_POS0]), MEM(f[FIELD_VEL]),
              MEM(f[FIELD_RHO]), MEM(f[FIELD_MASS]), MEM(f[FIELD_FIRST_PIOLA]),
-             MEM(f[FIELD_DEFORMATION_GRADIENT]), MEM(f[FIELD_MATERIAL]), GRID_ARG_LIST(s, dims),
-             MEM(s->materials), MEM(s->run_params), MEM(f[FIELD_ACCELERATION]),
-             MEM(f[FIELD_ENERGY_RATE]), MEM(f[FIELD_XSPH_VELOCITY]), INT(s->n));
+             MEM(f[FIELD_DEFORMATION_GRADIENT]), MEM(f[FIELD_MATERIAL]), MEM(f[FIELD_FLAGS]),
+             GRID_ARG_LIST(s, dims), MEM(s->materials), MEM(s->run_params),
+             MEM(f[FIELD_ACCELERATION]), MEM(f[FIELD_ENERGY_RATE]), MEM(f[FIELD_XSPH_VELOCITY]),
+             INT(s->n));
     launch(s, s->k.tl_momentum, (size_t)s->n, 0);
 }
 

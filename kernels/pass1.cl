@@ -17,13 +17,13 @@
 __kernel void pass1_velocity_gradient(
     __global const vec *restrict pos, __global const vec *restrict vel,
     __global const real *restrict rho, __global const real *restrict mass,
-    __global const int *restrict material, GRID_ARGS,
+    __global const int *restrict material, __global const int *restrict flags, GRID_ARGS,
     __constant const struct sph_material *materials, __constant const struct sph_run_params *run,
     __global fullt *restrict velocity_gradient, __global real *restrict density_rate,
     __global fullt *restrict csph, const int n)
 {
     const int i = get_global_id(0);
-    if (i >= n)
+    if (i >= n || (flags[i] & SPH_FLAG_GHOST))
         return;
     const real h = run->h;
     const real support2 = run->support * run->support;

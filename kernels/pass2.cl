@@ -87,20 +87,19 @@ static inline real artificial_viscosity(vec vij, vec xij, real r2, real h, real 
     return (-alpha * c_mean * mu + beta * mu * mu) / rho_mean;
 }
 
-__kernel void
-pass2_momentum_energy(__global const vec *restrict pos, __global const vec *restrict pos0,
-                      __global const vec *restrict vel, __global const real *restrict rho,
-                      __global const real *restrict mass, __global const real *restrict pressure,
-                      __global const symt *restrict deviatoric_stress,
-                      __global const symt *restrict artificial_stress,
-                      __global const fullt *restrict csph, __global const int *restrict material,
-                      GRID_ARGS, __constant const struct sph_material *materials,
-                      __constant const struct sph_run_params *run,
-                      __global vec *restrict acceleration, __global real *restrict energy_rate,
-                      __global vec *restrict xsph_velocity, const int n)
+__kernel void pass2_momentum_energy(
+    __global const vec *restrict pos, __global const vec *restrict pos0,
+    __global const vec *restrict vel, __global const real *restrict rho,
+    __global const real *restrict mass, __global const real *restrict pressure,
+    __global const symt *restrict deviatoric_stress,
+    __global const symt *restrict artificial_stress, __global const fullt *restrict csph,
+    __global const int *restrict material, __global const int *restrict flags, GRID_ARGS,
+    __constant const struct sph_material *materials, __constant const struct sph_run_params *run,
+    __global vec *restrict acceleration, __global real *restrict energy_rate,
+    __global vec *restrict xsph_velocity, const int n)
 {
     const int i = get_global_id(0);
-    if (i >= n)
+    if (i >= n || (flags[i] & SPH_FLAG_GHOST))
         return;
     const real h = run->h;
     const real support2 = run->support * run->support;

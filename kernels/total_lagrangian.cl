@@ -81,20 +81,19 @@ static inline void tl_matmul(real a[3][3], real b[3][3], real out[3][3])
  * mid-step velocity gradient.
  * reads: pos, pos0, vel_half, xsph_velocity, mass, rho, material, csph;
  * writes: velocity_gradient, density_rate, deformation_gradient (F^(n+1)). */
-__kernel void tl_deformation(__global const vec *restrict pos, __global const vec *restrict pos0,
-                             __global const vec *restrict vel_half,
-                             __global const vec *restrict xsph_velocity,
-                             __global const real *restrict mass, __global const real *restrict rho,
-                             __global const int *restrict material, GRID_ARGS,
-                             __constant const struct sph_material *materials,
-                             __constant const struct sph_run_params *run,
-                             __global const fullt *restrict correction, const real dt,
-                             __global fullt *restrict velocity_gradient,
-                             __global real *restrict density_rate,
-                             __global fullt *restrict deformation_gradient, const int n)
+__kernel void
+tl_deformation(__global const vec *restrict pos, __global const vec *restrict pos0,
+               __global const vec *restrict vel_half, __global const vec *restrict xsph_velocity,
+               __global const real *restrict mass, __global const real *restrict rho,
+               __global const int *restrict material, __global const int *restrict flags, GRID_ARGS,
+               __constant const struct sph_material *materials,
+               __constant const struct sph_run_params *run,
+               __global const fullt *restrict correction, const real dt,
+               __global fullt *restrict velocity_gradient, __global real *restrict density_rate,
+               __global fullt *restrict deformation_gradient, const int n)
 {
     const int i = get_global_id(0);
-    if (i >= n)
+    if (i >= n || (flags[i] & SPH_FLAG_GHOST))
         return;
     const real h = run->h;
     const real support2 = run->support * run->support;
@@ -211,14 +210,14 @@ __kernel void tl_momentum(__global const vec *restrict pos, __global const vec *
                           __global const real *restrict mass,
                           __global const fullt *restrict first_piola,
                           __global const fullt *restrict deformation_gradient,
-                          __global const int *restrict material, GRID_ARGS,
-                          __constant const struct sph_material *materials,
+                          __global const int *restrict material, __global const int *restrict flags,
+                          GRID_ARGS, __constant const struct sph_material *materials,
                           __constant const struct sph_run_params *run,
                           __global vec *restrict acceleration, __global real *restrict energy_rate,
                           __global vec *restrict xsph_velocity, const int n)
 {
     const int i = get_global_id(0);
-    if (i >= n)
+    if (i >= n || (flags[i] & SPH_FLAG_GHOST))
         return;
     const real h = run->h;
     const real support2 = run->support * run->support;
