@@ -12,7 +12,7 @@
 
 References (shared/REFERENCES.md 2): final length MSPH 34.7 mm, LS-DYNA
 34.5 mm, thesis SPH 34.3 mm; the issue's band for the converged length is
-34.3-34.9 mm. Runs go to results/taylor_<study>/<run>/; tables as CSV and
+34.3-34.9 mm. Runs go to results/taylor_<study>/<run>/ (--results moves them); tables as CSV and
 Markdown next to them, with a PNG. Every figure comes from the runs' own
 summary.json.
 """
@@ -77,7 +77,7 @@ HEADER = ["geometry", "{}", "particles", "steps", "wall (s)", "status", "final l
 
 
 def convergence(args):
-    folder = os.path.join(ROOT, "results", "taylor_convergence")
+    folder = os.path.join(args.results, "taylor_convergence")
     os.makedirs(folder, exist_ok=True)
     rows, series = [], {}
     for geometry, spacings in (("axi", args.axi_dx), ("quarter", args.quarter_dx)):
@@ -113,7 +113,7 @@ def convergence(args):
 
 
 def kernels(args):
-    folder = os.path.join(ROOT, "results", "taylor_kernels")
+    folder = os.path.join(args.results, "taylor_kernels")
     os.makedirs(folder, exist_ok=True)
     rows = []
     for kernel in KERNELS:
@@ -134,6 +134,8 @@ def main():
     ap.add_argument("--dx", type=float, default=5e-4)
     ap.add_argument("--set", action="append", default=[], help="extra --set for every run")
     ap.add_argument("--tag", default="", help="suffix of the table and plot names")
+    ap.add_argument("--results", default=os.path.join(ROOT, "results"),
+                    help="folder for the runs and tables (default results/)")
     args = ap.parse_args()
     convergence(args) if args.study == "convergence" else kernels(args)
 
