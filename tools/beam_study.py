@@ -16,24 +16,22 @@ summary.json and history.csv.
 """
 import argparse
 import csv
-import json
 import math
 import os
-import subprocess
 import sys
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import reissner_beam  # noqa: E402
+import studylib  # noqa: E402
+from studylib import write_table  # noqa: E402
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-SPH = os.environ.get("SPH", os.path.join(ROOT, "build", "sph"))
 KERNELS = ["cubic_spline", "gaussian", "quintic_spline", "wendland_c2", "double_cosine",
            "hyperbolic"]
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import reissner_beam  # noqa: E402
-
 # The thesis beam (REFERENCES.md 1): L 100 mm, height 10 mm, thickness 1 mm,
 # E 210 GPa, nu 0.3.
 BEAM = dict(length=0.1, ea=210e9 * 1e-5, gas=5 / 6 * 210e9 / 2.6 * 1e-5,
@@ -54,20 +52,6 @@ ELASTICA = {1750.0: 30.4e-3}  # the dynamic study's second reference (Reissner 3
 LINEAR_1750 = 33.59e-3
 
 
-def run(case, out, sets):
-    cmd = [SPH, "run", case, "--out", out, "--quiet"]
-    for s in sets:
-        cmd += ["--set", s]
-    print("$ " + " ".join(cmd), flush=True)
-    proc = subprocess.run(cmd, capture_output=True, text=True)
-    sys.stdout.write(proc.stdout)
-    if proc.returncode not in (0, 3):
-        sys.stderr.write(proc.stderr)
-        sys.exit(f"beam_study: sph exited with {proc.returncode}")
-    with open(os.path.join(out, "summary.json")) as f:
-        return json.load(f)
-
-
 def history(out):
     with open(os.path.join(out, "history.csv"), newline="") as f:
         rows = list(csv.DictReader(f))
@@ -80,19 +64,6 @@ def e_av(times, values, reference, window=(1.5e-3, 3.0e-3)):
     return sum(errors) / len(errors) if errors else float("nan")
 
 
-def write_table(folder, name, header, rows):
-    with open(os.path.join(folder, name + ".csv"), "w", newline="") as f:
-        w = csv.writer(f)
-        w.writerow(header)
-        w.writerows(rows)
-    with open(os.path.join(folder, name + ".md"), "w") as f:
-        f.write("| " + " | ".join(header) + " |\n")
-        f.write("|" + " --- |" * len(header) + "\n")
-        for r in rows:
-            f.write("| " + " | ".join(str(x) for x in r) + " |\n")
-    print(open(os.path.join(folder, name + ".md")).read())
-
-
 def static(args):
     folder = os.path.join(ROOT, "results", "beam_static")
     os.makedirs(folder, exist_ok=True)
@@ -101,9 +72,9 @@ def static(args):
         for dx in args.dx:
             out = os.path.join(folder, f"F{int(load)}_dx{dx:g}")
             ref, ref_elastica = reissner(load), elastica(load)
-            s = run(os.path.join(ROOT, "cases", "beam_2d_static.yaml"), out,
-                    [f"numerics.dx={dx}", f"groups.tip.load.force=[0, {-load}]",
-                     f"reference.value={-ref}"] + args.set)
+            s = studylib.run(os.path.join(ROOT, "cases", "beam_2d_static.yaml"), out,
+                             [f"numerics.dx={dx}", f"groups.tip.load.force=[0, {-load}]",
+                              f"reference.value={-ref}"] + args.set, "beam_study")
             w = abs(s.get("tip_deflection_final_m") or float("nan"))
             rows.append([int(load), dx * 1e3, s["particles"], s["steps"], round(s["wall_time_s"], 1),
                          s["status"], round(w * 1e3, 3), round(ref * 1e3, 3),
@@ -142,8 +113,9 @@ def dynamic(args):
     fig, ax = plt.subplots(figsize=(7, 4.5))
     for kernel in args.kernels:
         out = os.path.join(folder, kernel)
-        s = run(os.path.join(ROOT, "cases", "beam_2d.yaml"), out,
-                [f"numerics.kernel={kernel}", f"numerics.dx={args.dx[0]}"] + args.set)
+        s = studylib.run(os.path.join(ROOT, "cases", "beam_2d.yaml"), out,
+                         [f"numerics.kernel={kernel}", f"numerics.dx={args.dx[0]}"] + args.set,
+                         "beam_study")
         t, w = history(out)
         window = [abs(v) for tt, v in zip(t, w) if 1.5e-3 <= tt <= 3.0e-3 * (1 + 1e-9)]
         mean = sum(window) / len(window) if window else float("nan")
@@ -174,8 +146,8 @@ def main():
     ap.add_argument("--set", action="append", default=[], help="extra --set for every run")
     ap.add_argument("--tag", default="", help="suffix of the table and plot names")
     args = ap.parse_args()
-    if not os.path.exists(SPH):
-        sys.exit(f"beam_study: {SPH} not found; build first (tools/setup.sh build)")
+    if not os.path.exists(studylib.SPH):
+        sys.exit(f"beam_study: {studylib.SPH} not found; build first (tools/setup.sh build)")
     if args.study == "static":
         args.dx = args.dx or [2e-3, 1e-3, 5e-4]
         static(args)

@@ -17,19 +17,18 @@ Markdown next to them, with a PNG. Every figure comes from the runs' own
 summary.json.
 """
 import argparse
-import csv
-import json
 import os
-import subprocess
 import sys
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from studylib import write_table  # noqa: E402
+import studylib  # noqa: E402
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-SPH = os.environ.get("SPH", os.path.join(ROOT, "build", "sph"))
 KERNELS = ["cubic_spline", "gaussian", "quintic_spline", "wendland_c2", "double_cosine",
            "hyperbolic"]
 CASES = {"axi": "taylor_axi_4340.yaml", "quarter": "taylor_3d_4340.yaml"}
@@ -37,30 +36,7 @@ BAND = (34.3e-3, 34.9e-3)
 
 
 def run(case, out, sets):
-    cmd = [SPH, "run", os.path.join(ROOT, "cases", case), "--out", out, "--quiet"]
-    for s in sets:
-        cmd += ["--set", s]
-    print("$ " + " ".join(cmd), flush=True)
-    proc = subprocess.run(cmd, capture_output=True, text=True)
-    sys.stdout.write(proc.stdout)
-    if proc.returncode not in (0, 3):
-        sys.stderr.write(proc.stderr)
-        sys.exit(f"taylor_study: sph exited with {proc.returncode}")
-    with open(os.path.join(out, "summary.json")) as f:
-        return json.load(f)
-
-
-def write_table(folder, name, header, rows):
-    with open(os.path.join(folder, name + ".csv"), "w", newline="") as f:
-        w = csv.writer(f)
-        w.writerow(header)
-        w.writerows(rows)
-    with open(os.path.join(folder, name + ".md"), "w") as f:
-        f.write("| " + " | ".join(header) + " |\n")
-        f.write("|" + " --- |" * len(header) + "\n")
-        for r in rows:
-            f.write("| " + " | ".join(str(x) for x in r) + " |\n")
-    print(open(os.path.join(folder, name + ".md")).read())
+    return studylib.run(os.path.join(ROOT, "cases", case), out, sets, "taylor_study")
 
 
 def row(geometry, label, s):

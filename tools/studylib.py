@@ -1,0 +1,41 @@
+"""What the study tools share: running `sph` on a case and writing a table
+as CSV and Markdown (tools/beam_study.py, tools/taylor_study.py)."""
+import csv
+import json
+import os
+import subprocess
+import sys
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+SPH = os.environ.get("SPH", os.path.join(ROOT, "build", "sph"))
+
+
+def run(case, out, sets, tool):
+    """Runs `sph run case --out out --set ...`; returns its summary.json. A
+    run that went unstable (exit 3) still has a summary; other failures stop
+    the study with `tool`'s name."""
+    cmd = [SPH, "run", case, "--out", out, "--quiet"]
+    for s in sets:
+        cmd += ["--set", s]
+    print("$ " + " ".join(cmd), flush=True)
+    proc = subprocess.run(cmd, capture_output=True, text=True)
+    sys.stdout.write(proc.stdout)
+    if proc.returncode not in (0, 3):
+        sys.stderr.write(proc.stderr)
+        sys.exit(f"{tool}: sph exited with {proc.returncode}")
+    with open(os.path.join(out, "summary.json")) as f:
+        return json.load(f)
+
+
+def write_table(folder, name, header, rows):
+    """folder/name.csv and folder/name.md; prints the Markdown."""
+    with open(os.path.join(folder, name + ".csv"), "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(header)
+        w.writerows(rows)
+    with open(os.path.join(folder, name + ".md"), "w") as f:
+        f.write("| " + " | ".join(header) + " |\n")
+        f.write("|" + " --- |" * len(header) + "\n")
+        for r in rows:
+            f.write("| " + " | ".join(str(x) for x in r) + " |\n")
+    print(open(os.path.join(folder, name + ".md")).read())
