@@ -7,7 +7,7 @@
       (cases/taylor_3d_4340.yaml) models at each spacing, with particles,
       steps, wall time and energy drift; the axisymmetric / 3-D difference at
       equal spacing.
-  tools/taylor_study.py kernels [--geometry axi|quarter] [--dx 5e-4]
+  tools/taylor_study.py kernels [--geometry axi|quarter|iron_2d] [--dx 5e-4]
       the same case with each of the six kernels at one spacing.
 
 References (shared/REFERENCES.md 2): final length MSPH 34.7 mm, LS-DYNA
@@ -31,7 +31,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 KERNELS = ["cubic_spline", "gaussian", "quintic_spline", "wendland_c2", "double_cosine",
            "hyperbolic"]
-CASES = {"axi": "taylor_axi_4340.yaml", "quarter": "taylor_3d_4340.yaml"}
+CASES = {"axi": "taylor_axi_4340.yaml", "quarter": "taylor_3d_4340.yaml",
+         "iron_2d": "taylor_2d_iron.yaml"}
 BAND = (34.3e-3, 34.9e-3)
 
 
@@ -45,11 +46,13 @@ def row(geometry, label, s):
             round(1e3 * s.get("footprint_radius_m", float("nan")), 3),
             round(s.get("max_plastic_strain", float("nan")), 3),
             round(s.get("max_temperature_K", float("nan")), 1),
-            round(100 * s["energy_drift"], 2)]
+            round(100 * s["energy_drift"], 2),
+            round(100 * s.get("max_neighbour_loss_fraction", float("nan")), 2)]
 
 
 HEADER = ["geometry", "{}", "particles", "steps", "wall (s)", "status", "final length (mm)",
-          "footprint radius (mm)", "max plastic strain", "max T (K)", "energy drift (%)"]
+          "footprint radius (mm)", "max plastic strain", "max T (K)", "energy drift (%)",
+          "neighbour loss (%)"]
 
 
 def convergence(args):
