@@ -1093,6 +1093,14 @@ static const struct field numerics_fields[] = {
     ENUM("precision", struct case_numerics, double_precision, 0, 0, precision_names, NULL),
 };
 
+static const struct field health_fields[] = {
+    NUMBER("min_pair_distance", struct case_health, min_pair_distance, 0, R_CLOSED, 0, 1, 0, NULL),
+    NUMBER("clumped_fraction", struct case_health, clumped_fraction, 0, R_CLOSED, 0, 1, 0.01, NULL),
+    NUMBER("energy_error", struct case_health, energy_error, 0, R_POSITIVE, 0, 0, 0.05, NULL),
+    BOOL("stop", struct case_health, stop),
+};
+static const struct schema health_schema = SCHEMA(health_fields, struct case_health, NULL);
+
 static const struct field output_fields[] = {
     NUMBER("snapshot_interval", struct case_output, snapshot_interval, 0, R_POSITIVE, 0, 0, 0, "s"),
     NUMBER("history_interval", struct case_output, history_interval, 0, R_POSITIVE, 0, 0, 0, "s"),
@@ -1136,6 +1144,7 @@ static const struct field case_fields[] = {
     LIST("symmetry", struct sph_case, symmetry, symmetry_count, 0, 0, 3, symmetry_schema),
     MAP("numerics", F_REQUIRED, offsetof(struct sph_case, numerics), 0, numerics_schema),
     MAP("output", 0, offsetof(struct sph_case, output), 0, output_schema),
+    MAP("health", 0, offsetof(struct sph_case, health), 0, health_schema),
     MAP("probe", F_ENABLE, offsetof(struct sph_case, probe), offsetof(struct sph_case, has_probe),
         probe_schema),
     MAP("reference", F_ENABLE, offsetof(struct sph_case, reference),

@@ -60,7 +60,9 @@ int output_open(struct output *o, const char *folder, const struct sph_case *c, 
     fprintf(o->history,
             "time_s,step,dt_s,%s_m,kinetic_energy_J,internal_energy_J,external_work_J,"
             "total_energy_J,momentum_x_kg_m_s,momentum_y_kg_m_s,momentum_z_kg_m_s,max_speed_m_s,"
-            "wall_force_x_N,wall_force_y_N,wall_force_z_N,wall_work_J\n",
+            "wall_force_x_N,wall_force_y_N,wall_force_z_N,wall_work_J,min_pair_distance_over_dx,"
+            "clumped_fraction,swegle_fraction,neighbours_min,neighbours_mean,neighbours_max,"
+            "energy_error\n",
             o->probe_name);
     o->snapshot_times = malloc(sizeof(double) * SPH_MAX_SNAPSHOTS);
     return o->snapshot_times ? 0 : 1;
@@ -69,11 +71,14 @@ int output_open(struct output *o, const char *folder, const struct sph_case *c, 
 void output_history(struct output *o, const struct history_row *r)
 {
     fprintf(o->history,
-            "%.9e,%ld,%.6e,%.9e,%.9e,%.9e,%.9e,%.9e,%.6e,%.6e,%.6e,%.6e,%.6e,%.6e,%.6e,%.9e\n",
+            "%.9e,%ld,%.6e,%.9e,%.9e,%.9e,%.9e,%.9e,%.6e,%.6e,%.6e,%.6e,%.6e,%.6e,%.6e,%.9e,",
             r->time, r->step, r->dt, r->probe, r->kinetic, r->internal, r->external_work,
             r->kinetic + r->internal - r->external_work - r->wall_work, r->momentum[0],
             r->momentum[1], r->momentum[2], r->max_speed, r->wall_force[0], r->wall_force[1],
             r->wall_force[2], r->wall_work);
+    fprintf(o->history, "%.6e,%.6e,%.6e,%.0f,%.3f,%.0f,%.6e\n", r->health.min_pair_distance / r->dx,
+            r->health.clumped_fraction, r->health.swegle_fraction, r->health.neighbours_min,
+            r->health.neighbours_mean, r->health.neighbours_max, r->energy_error);
 }
 
 static int write_dataset(hid_t file, const char *name, hid_t type, const void *data, hsize_t rows,
@@ -247,12 +252,19 @@ int output_summary(struct output *o, const struct run_summary *s)
         json_number(f, "final_length_m", s->final_length_m, 0);
         json_number(f, "footprint_radius_m", s->footprint_radius_m, 0);
     }
+    json_number(f, "min_pair_distance_over_dx", s->min_pair_distance_over_dx, 0);
+    json_number(f, "max_clumped_fraction", s->max_clumped_fraction, 0);
+    json_number(f, "max_swegle_fraction", s->max_swegle_fraction, 0);
+    if (s->first_unhealthy_time >= 0) {
+        json_number(f, "first_unhealthy_time_s", s->first_unhealthy_time, 0);
+        json_string(f, "unhealthy_reason", s->unhealthy_reason);
+    }
     if (s->has_plasticity) {
         json_number(f, "max_plastic_strain", s->max_plastic_strain, 0);
         json_number(f, "max_temperature_K", s->max_temperature_K, 0);
     }
-    const int healthy =
-        strcmp(s->status, "completed") == 0 && !(s->max_neighbour_loss_fraction > 0);
+    const int healthy = strcmp(s->status, "completed") == 0 &&
+                        !(s->max_neighbour_loss_fraction > 0) && s->first_unhealthy_time < 0;
     fprintf(f, "  \"healthy\": %s\n}\n", healthy ? "true" : "false");
     return fclose(f) != 0;
 }

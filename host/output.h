@@ -28,6 +28,9 @@ struct history_row {
     double kinetic, internal, external_work;
     double momentum[3];
     double max_speed;
+    double dx; /* lattice spacing, m (the pair distance is written over it) */
+    struct health_reading health;
+    double energy_error;  /* (E - E0) / energy scale */
     double wall_force[3]; /* on the walls, mean since the previous row, N */
     double wall_work;     /* work of the wall forces on the particles so far, J */
 };
@@ -53,6 +56,10 @@ struct run_summary {
     double footprint_radius_m;          /* largest distance from the axis in the first layer */
     int has_plasticity;
     double max_plastic_strain, max_temperature_K;
+    /* health indicators over the history rows */
+    double min_pair_distance_over_dx, max_clumped_fraction, max_swegle_fraction;
+    double first_unhealthy_time; /* s, < 0 while healthy */
+    const char *unhealthy_reason;
 };
 
 /* Creates the folder (and parents), writes case.resolved.yaml and opens

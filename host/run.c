@@ -36,6 +36,9 @@ struct loop {
     double max_neighbour_loss;
     double wall_work, wall_impulse[3], impulse_since_row_time; /* J, N s, s */
     double final_length, footprint_radius, max_plastic_strain, max_temperature;
+    double min_pair_distance, max_clumped, max_swegle;
+    double first_unhealthy_time; /* s; < 0 while healthy */
+    char unhealthy_reason[256];
     struct reduction red;
     char message[1024];
     const char *status;
@@ -72,7 +75,48 @@ static void track_probe(struct loop *L)
     }
 }
 
-static void write_history(struct loop *L)
+static double total_energy(const struct loop *L);
+
+/* The health indicators of this row against the case's thresholds
+ * (case_health): the first crossing is recorded, and stops the run when
+ * health.stop is set. Returns non-zero to stop. The energy threshold is
+ * checked at the end, against the run's largest energy (early rows of a
+ * loaded run have almost no energy to compare with). */
+static int watch_health(struct loop *L, struct history_row *row)
+{
+    solver_health(L->s, &row->health);
+    row->energy_error =
+        L->energy_scale > 0 ? (total_energy(L) - L->energy_start) / L->energy_scale : 0.0;
+    const struct case_health *limit = &L->c->health;
+    const double dx = L->c->numerics.dx;
+    L->min_pair_distance = fmin(L->min_pair_distance, row->health.min_pair_distance / dx);
+    L->max_clumped = fmax(L->max_clumped, row->health.clumped_fraction);
+    L->max_swegle = fmax(L->max_swegle, row->health.swegle_fraction);
+    if (L->first_unhealthy_time >= 0)
+        return 0;
+    char *why = L->unhealthy_reason;
+    const size_t size = sizeof L->unhealthy_reason;
+    if (row->health.min_pair_distance < limit->min_pair_distance * dx)
+        snprintf(why, size, "smallest pair distance %.3g dx below %.3g dx",
+                 row->health.min_pair_distance / dx, limit->min_pair_distance);
+    else if (row->health.clumped_fraction > limit->clumped_fraction)
+        snprintf(why, size,
+                 "%.3g%% of particles clumped (a neighbour closer than dx/2), above %.3g%%",
+                 100 * row->health.clumped_fraction, 100 * limit->clumped_fraction);
+    else
+        return 0;
+    L->first_unhealthy_time = L->t;
+    if (!L->opt->quiet)
+        fprintf(stderr, "\nsph: unhealthy at t = %.6e s, step %ld: %s\n", L->t, L->step, why);
+    if (!limit->stop)
+        return 0;
+    snprintf(L->message, sizeof L->message, "stopped unhealthy at step %ld, t = %.6e s: %s",
+             L->step, L->t, why);
+    L->status = "unhealthy";
+    return 1;
+}
+
+static int write_history(struct loop *L)
 {
     struct history_row row = {.time = L->t,
                               .dt = L->dt,
@@ -87,9 +131,12 @@ static void write_history(struct loop *L)
     for (int a = 0; a < 3; ++a) /* the reaction on the walls */
         row.wall_force[a] =
             L->impulse_since_row_time > 0 ? -L->wall_impulse[a] / L->impulse_since_row_time : 0.0;
+    row.dx = L->c->numerics.dx;
+    const int stop = watch_health(L, &row);
     output_history(L->out, &row);
     memset(L->wall_impulse, 0, sizeof L->wall_impulse);
     L->impulse_since_row_time = 0;
+    return stop;
 }
 
 static void measure_integrity(struct loop *L)
@@ -278,6 +325,18 @@ static void finish_summary(struct loop *L, struct run_summary *sum)
         sum->has_plasticity |= L->c->materials[m].strength != SPH_STRENGTH_ELASTIC;
     sum->max_plastic_strain = L->max_plastic_strain;
     sum->max_temperature_K = L->max_temperature;
+    sum->min_pair_distance_over_dx = L->min_pair_distance;
+    sum->max_clumped_fraction = L->max_clumped;
+    sum->max_swegle_fraction = L->max_swegle;
+    if (L->first_unhealthy_time < 0 && L->c->numerics.damping == 0 &&
+        sum->energy_drift > L->c->health.energy_error) {
+        L->first_unhealthy_time = L->t;
+        snprintf(L->unhealthy_reason, sizeof L->unhealthy_reason,
+                 "energy drift %.3g above %.3g over the run", sum->energy_drift,
+                 L->c->health.energy_error);
+    }
+    sum->first_unhealthy_time = L->first_unhealthy_time;
+    sum->unhealthy_reason = L->unhealthy_reason;
 }
 
 static void print_summary_line(const struct run_summary *sum, const char *folder)
@@ -286,6 +345,9 @@ static void print_summary_line(const struct run_summary *sum, const char *folder
     if (sum->max_neighbour_loss_fraction > 0)
         printf(" (not whole: %.2f%% of particles lost over a third of their neighbours)",
                100 * sum->max_neighbour_loss_fraction);
+    if (sum->first_unhealthy_time >= 0)
+        printf(" (unhealthy from t = %.4g s: %s)", sum->first_unhealthy_time,
+               sum->unhealthy_reason);
     if (sum->has_probe) {
         printf(" | %s final %.4f mm, mean %.4f mm", sum->probe_name, 1e3 * sum->probe_final,
                1e3 * sum->probe_mean);
@@ -307,8 +369,11 @@ static int time_loop(struct loop *L)
             return 3;
         }
         if (L->t >= L->next_history * (1 - 1e-9)) {
-            write_history(L);
             L->next_history += o->history_interval;
+            if (write_history(L)) { /* unhealthy, and health.stop asks to stop */
+                write_snapshot(L);
+                return 3;
+            }
         }
         if (L->t >= L->next_snapshot * (1 - 1e-9)) {
             if (write_snapshot(L)) {
@@ -345,6 +410,8 @@ static int start(struct loop *L, char *error, size_t size)
     L->dt_initial = L->c->numerics.cfl * L->s->run.h / L->red.max_signal;
     L->dt = L->dt_cfl = L->dt_initial;
     L->energy_start = total_energy(L);
+    L->min_pair_distance = HUGE_VAL;
+    L->first_unhealthy_time = -1;
     L->initial_neighbours = malloc(sizeof(int) * (size_t)L->s->n_real);
     L->neighbours = malloc(sizeof(int) * (size_t)L->s->n_real);
     solver_neighbour_counts(L->s, L->initial_neighbours);

@@ -92,6 +92,7 @@ struct kernels {
     cl_kernel gather[ELEM_COUNT];
     cl_kernel pass1, material, pass2, kick, drift, reduce, neighbour_count;
     cl_kernel tl_correction, tl_deformation, tl_first_piola, tl_momentum;
+    cl_kernel health;
 };
 
 /* What the per-step reduction returns, combined in double. */
@@ -185,6 +186,16 @@ void solver_launch(struct solver *s, cl_kernel k, size_t global, size_t local);
 cl_kernel solver_make_kernel(struct solver *s, const char *name);
 void solver_bitonic_sort(struct solver *s);
 void solver_gather_persistent(struct solver *s);
+
+/* Health indicators (kernels/reduce.cl, health_indicators) over the real,
+ * free particles. */
+struct health_reading {
+    double min_pair_distance; /* m */
+    double clumped_fraction;  /* particles with a neighbour closer than dx / 2 */
+    double swegle_fraction;   /* particles whose nearest pair has W'' sigma_n > 0 */
+    double neighbours_min, neighbours_mean, neighbours_max;
+};
+void solver_health(struct solver *s, struct health_reading *out);
 
 /* Neighbours within the support per particle, in original order (by id). */
 void solver_neighbour_counts(struct solver *s, int *count_by_id);

@@ -128,6 +128,7 @@ static void create_kernels(struct solver *s)
     k->tl_deformation = make_kernel(s, "tl_deformation");
     k->tl_first_piola = make_kernel(s, "tl_first_piola");
     k->tl_momentum = make_kernel(s, "tl_momentum");
+    k->health = make_kernel(s, "health_indicators");
 }
 
 static void release_kernels(struct solver *s)
@@ -137,7 +138,7 @@ static void release_kernels(struct solver *s)
         &s->k.mark_sorted,     &s->k.bounds,        &s->k.pass1,          &s->k.material,
         &s->k.pass2,           &s->k.kick,          &s->k.drift,          &s->k.reduce,
         &s->k.neighbour_count, &s->k.tl_correction, &s->k.tl_deformation, &s->k.tl_first_piola,
-        &s->k.tl_momentum};
+        &s->k.tl_momentum,     &s->k.health};
     for (size_t i = 0; i < sizeof all / sizeof all[0]; ++i)
         if (*all[i])
             clReleaseKernel(*all[i]);
@@ -526,6 +527,21 @@ static void combine_partials(const struct solver *s, const double *v, struct red
     }
 }
 
+/* Reads `count` per-group partials of the device precision as doubles. */
+static void read_partials(struct solver *s, size_t count, double *values)
+{
+    if (s->double_precision) {
+        CL_CHECK(clEnqueueReadBuffer(s->dev->queue, s->partials, CL_TRUE, 0, count * sizeof(double),
+                                     values, 0, NULL, NULL));
+        return;
+    }
+    float tmp[64 * SPH_RED_SLOTS];
+    CL_CHECK(clEnqueueReadBuffer(s->dev->queue, s->partials, CL_TRUE, 0, count * sizeof(float), tmp,
+                                 0, NULL, NULL));
+    for (size_t k = 0; k < count; ++k)
+        values[k] = tmp[k];
+}
+
 void solver_reduce(struct solver *s, const double load[3], struct reduction *out)
 {
     cl_mem *f = s->field;
@@ -536,19 +552,37 @@ void solver_reduce(struct solver *s, const double load[3], struct reduction *out
              MEM(f[FIELD_ID]), MEM(f[FIELD_WALL_FORCE]), MEM(s->materials), MEM(s->run_params),
              real4_value(s, &a_load, load), MEM(s->partials), INT(s->n));
     launch(s, s->k.reduce, (size_t)s->reduce_groups * REDUCE_GROUP_SIZE, REDUCE_GROUP_SIZE);
-    const size_t count = (size_t)s->reduce_groups * SPH_RED_SLOTS;
     double values[64 * SPH_RED_SLOTS];
-    if (s->double_precision)
-        CL_CHECK(clEnqueueReadBuffer(s->dev->queue, s->partials, CL_TRUE, 0, count * sizeof(double),
-                                     values, 0, NULL, NULL));
-    else {
-        float tmp[64 * SPH_RED_SLOTS];
-        CL_CHECK(clEnqueueReadBuffer(s->dev->queue, s->partials, CL_TRUE, 0, count * sizeof(float),
-                                     tmp, 0, NULL, NULL));
-        for (size_t k = 0; k < count; ++k)
-            values[k] = tmp[k];
-    }
+    read_partials(s, (size_t)s->reduce_groups * SPH_RED_SLOTS, values);
     combine_partials(s, values, out);
+}
+
+void solver_health(struct solver *s, struct health_reading *out)
+{
+    const cl_int4 dims = {{s->grid.dims[0], s->grid.dims[1], s->grid.dims[2], 0}};
+    struct real_arg a_dx;
+    SET_ARGS(s->k.health, MEM(s->field[FIELD_POS]), MEM(s->field[FIELD_PRESSURE]),
+             MEM(s->field[FIELD_STRESS]), MEM(s->field[FIELD_FLAGS]), GRID_ARG_LIST(s, dims),
+             MEM(s->run_params), real_value(s, &a_dx, s->dx), MEM(s->partials), INT(s->n));
+    launch(s, s->k.health, (size_t)s->reduce_groups * REDUCE_GROUP_SIZE, REDUCE_GROUP_SIZE);
+    double v[64 * SPH_HEALTH_SLOTS];
+    read_partials(s, (size_t)s->reduce_groups * SPH_HEALTH_SLOTS, v);
+    double min_distance = HUGE_VAL, nb_min = HUGE_VAL, nb_max = 0, sums[SPH_HEALTH_SLOTS] = {0};
+    for (int g = 0; g < s->reduce_groups; ++g) {
+        const double *p = &v[g * SPH_HEALTH_SLOTS];
+        min_distance = fmin(min_distance, p[SPH_HEALTH_MIN_DISTANCE]);
+        nb_min = fmin(nb_min, p[SPH_HEALTH_NEIGHBOURS_MIN]);
+        nb_max = fmax(nb_max, p[SPH_HEALTH_NEIGHBOURS_MAX]);
+        for (int k = 0; k < SPH_HEALTH_SLOTS; ++k)
+            sums[k] += p[k];
+    }
+    const double count = fmax(sums[SPH_HEALTH_PARTICLES], 1.0);
+    out->min_pair_distance = min_distance;
+    out->clumped_fraction = sums[SPH_HEALTH_CLUMPED] / count;
+    out->swegle_fraction = sums[SPH_HEALTH_SWEGLE] / count;
+    out->neighbours_min = nb_min;
+    out->neighbours_mean = sums[SPH_HEALTH_NEIGHBOURS_SUM] / count;
+    out->neighbours_max = nb_max;
 }
 
 void solver_neighbour_counts(struct solver *s, int *count_by_id)

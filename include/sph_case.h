@@ -143,6 +143,14 @@ struct case_output {
     double history_interval;  /* s; default end_time / 1000 */
 };
 
+/* Thresholds past which a run is marked unhealthy (host/run.c). */
+struct case_health {
+    double min_pair_distance; /* over dx; default 0 (off) */
+    double clumped_fraction;  /* default 0.01 */
+    double energy_error;      /* default 0.05; undamped runs only */
+    int stop;                 /* stop the run when unhealthy; default false */
+};
+
 struct case_probe {
     char name[SPH_NAME_MAX]; /* column name in history.csv */
     int group;               /* index into case.groups */
@@ -172,6 +180,7 @@ struct sph_case {
     int wall_count;
     struct case_symmetry symmetry[3];
     int symmetry_count;
+    struct case_health health;
     struct case_group groups[SPH_MAX_BODIES];
     struct case_numerics numerics;
     struct case_output output;

@@ -150,4 +150,17 @@ enum sph_reduce_slot {
     SPH_RED_SLOTS = 18
 };
 
+/* Slots of the health-indicator reduction (kernels/reduce.cl,
+ * health_indicators). */
+enum sph_health_slot {
+    SPH_HEALTH_MIN_DISTANCE = 0, /* smallest pair distance, m (min) */
+    SPH_HEALTH_CLUMPED = 1,      /* particles with a neighbour closer than dx / 2 (sum) */
+    SPH_HEALTH_SWEGLE = 2,       /* particles whose nearest pair has W'' sigma_n > 0 (sum) */
+    SPH_HEALTH_NEIGHBOURS_MIN = 3,
+    SPH_HEALTH_NEIGHBOURS_MAX = 4,
+    SPH_HEALTH_NEIGHBOURS_SUM = 5,
+    SPH_HEALTH_PARTICLES = 6, /* real particles counted (sum) */
+    SPH_HEALTH_SLOTS = 8
+};
+
 #endif /* SPH_SHARED_H */

@@ -125,3 +125,103 @@ __kernel void health_neighbour_count(__global const vec *restrict pos,
     END_FOR_EACH_NEIGHBOUR
     neighbour_count[i] = c;
 }
+
+/* Health indicators (issue: stability where SPH fails), reduced per
+ * work-group like reduce_step: the smallest pair distance; the particles
+ * with a neighbour closer than dx / 2 (clumping, the end state of the
+ * tensile and pairing instabilities); the particles in Swegle's unstable
+ * regime, W''(r) sigma_n > 0 for the nearest neighbour at distance r with
+ * sigma_n = n . sigma . n the normal stress along that pair (Swegle, Hicks &
+ * Attaway 1995; thesis eq. 3.1: tension where the kernel's second
+ * derivative is positive); neighbour counts within the support. Ghosts and
+ * fixed particles are not counted. W'' is a central difference of dW/dr
+ * over 1e-3 h, enough for its sign.
+ * reads pos, pressure, deviatoric_stress, flags; writes health partials. */
+static inline real kernel_d2wdr2(real r, real h)
+{
+    const real step = (real)1e-3 * h;
+    return (kernel_dwdr(r + step, h) - kernel_dwdr(fmax(r - step, (real)0), h)) /
+           (r + step - fmax(r - step, (real)0));
+}
+
+static inline bool health_slot_is_min(int slot)
+{
+    return slot == SPH_HEALTH_MIN_DISTANCE || slot == SPH_HEALTH_NEIGHBOURS_MIN;
+}
+
+__kernel __attribute__((reqd_work_group_size(REDUCE_WG, 1, 1))) void
+health_indicators(__global const vec *restrict pos, __global const real *restrict pressure,
+                  __global const symt *restrict deviatoric_stress,
+                  __global const int *restrict flags, GRID_ARGS,
+                  __constant const struct sph_run_params *run, const real dx,
+                  __global real *restrict partials, const int n)
+{
+    __local real acc[REDUCE_WG][SPH_HEALTH_SLOTS];
+    const int lid = get_local_id(0);
+    real mine[SPH_HEALTH_SLOTS];
+    for (int k = 0; k < SPH_HEALTH_SLOTS; ++k)
+        mine[k] = health_slot_is_min(k) ? (real)INFINITY : (real)0;
+    const real h = run->h, support2 = run->support * run->support;
+    for (int i = get_global_id(0); i < n; i += get_global_size(0)) {
+        if (flags[i] & (SPH_FLAG_GHOST | SPH_FLAG_FIXED))
+            continue;
+        const vec xi = pos[i];
+        real nearest2 = INFINITY;
+        vec nearest = VEC_ZERO;
+        int count = 0;
+        FOR_EACH_NEIGHBOUR(i, j)
+        {
+            const vec d = pos[j] - xi;
+            const real r2 = dot(d, d);
+            if (j != i && r2 < support2) {
+                ++count;
+                if (r2 < nearest2) {
+                    nearest2 = r2;
+                    nearest = d;
+                }
+            }
+        }
+        END_FOR_EACH_NEIGHBOUR
+        mine[SPH_HEALTH_PARTICLES] += 1;
+        mine[SPH_HEALTH_NEIGHBOURS_MIN] = fmin(mine[SPH_HEALTH_NEIGHBOURS_MIN], (real)count);
+        mine[SPH_HEALTH_NEIGHBOURS_MAX] = fmax(mine[SPH_HEALTH_NEIGHBOURS_MAX], (real)count);
+        mine[SPH_HEALTH_NEIGHBOURS_SUM] += (real)count;
+        if (count == 0)
+            continue;
+        const real r = sqrt(nearest2);
+        mine[SPH_HEALTH_MIN_DISTANCE] = fmin(mine[SPH_HEALTH_MIN_DISTANCE], r);
+        if (r < (real)0.5 * dx)
+            mine[SPH_HEALTH_CLUMPED] += 1;
+        real sigma[3][3], normal[3];
+        symt_load(deviatoric_stress[i], sigma);
+        for (int a = 0; a < 3; ++a) {
+            sigma[a][a] -= pressure[i];
+            normal[a] = vec_get(nearest, a) / r;
+        }
+        real sigma_n = 0;
+        for (int a = 0; a < SPH_DIM; ++a)
+            for (int b = 0; b < SPH_DIM; ++b)
+                sigma_n += normal[a] * sigma[a][b] * normal[b];
+        if (kernel_d2wdr2(r, h) * sigma_n > 0)
+            mine[SPH_HEALTH_SWEGLE] += 1;
+    }
+    for (int k = 0; k < SPH_HEALTH_SLOTS; ++k)
+        acc[lid][k] = mine[k];
+    barrier(CLK_LOCAL_MEM_FENCE);
+    for (int stride = REDUCE_WG / 2; stride > 0; stride >>= 1) {
+        if (lid < stride)
+            for (int k = 0; k < SPH_HEALTH_SLOTS; ++k) {
+                const real other = acc[lid + stride][k];
+                if (health_slot_is_min(k))
+                    acc[lid][k] = fmin(acc[lid][k], other);
+                else if (k == SPH_HEALTH_NEIGHBOURS_MAX)
+                    acc[lid][k] = fmax(acc[lid][k], other);
+                else
+                    acc[lid][k] += other;
+            }
+        barrier(CLK_LOCAL_MEM_FENCE);
+    }
+    if (lid == 0)
+        for (int k = 0; k < SPH_HEALTH_SLOTS; ++k)
+            partials[get_group_id(0) * SPH_HEALTH_SLOTS + k] = acc[0][k];
+}
