@@ -1,0 +1,120 @@
+#!/usr/bin/python3
+"""Stability map (issue: stability where SPH fails).
+
+  tools/stability_study.py [--cases tension rings beam] [--kernels ...]
+                           [--stress off on] [--csph off on] [--h 1.2 1.5 2.0]
+                           [--set key=value ...] [--results DIR]
+
+Runs every combination of smoothing kernel x artificial stress (off, or on
+with epsilon 0.3) x CSPH (off, on) x h/dx on each stability case and records
+the health indicators of each run (summary.json): whether it stayed whole,
+the time it first went unhealthy (clumping) and the reason, the largest
+clumped and Swegle fractions, the smallest pair distance, the fraction of
+particles that lost a third of their neighbours. Writes
+results/stability/<case>.csv and .md and a map per case (PNG): one panel
+per h/dx, kernels down, (artificial stress, CSPH) across, green for healthy,
+orange for clumped or torn but completed, red for a run that blew up.
+
+Cases: tension = cases/tension_bar_2d.yaml (2 GPa tension),
+rings = cases/rubber_rings_2d.yaml (Gray, Monaghan & Swift 2001),
+beam = cases/beam_2d.yaml at 17.5 kN (the thesis' large bending).
+"""
+import argparse
+import itertools
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import studylib  # noqa: E402
+from studylib import write_table  # noqa: E402
+import matplotlib  # noqa: E402
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+KERNELS = ["cubic_spline", "gaussian", "quintic_spline", "wendland_c2", "double_cosine",
+           "hyperbolic"]
+CASES = {
+    "tension": ("tension_bar_2d.yaml", []),
+    "rings": ("rubber_rings_2d.yaml", []),
+    "beam": ("beam_2d.yaml", ["groups.tip.load.force=[0,-17500]", "reference.value=-82.25e-3"]),
+}
+EPSILON = 0.3
+
+
+def verdict(s):
+    """0 healthy, 1 completed but unhealthy (clumped or torn), 2 blew up."""
+    if s["status"] != "completed":
+        return 2
+    return 0 if s.get("healthy") else 1
+
+
+def run_case(args, name):
+    case, base_sets = CASES[name]
+    folder = os.path.join(args.results, "stability", name)
+    os.makedirs(folder, exist_ok=True)
+    rows, grid = [], {}
+    for kernel, stress, csph, h in itertools.product(args.kernels, args.stress, args.csph, args.h):
+        label = f"{kernel}_as-{stress}_csph-{csph}_h{h:g}"
+        sets = base_sets + [f"numerics.kernel={kernel}", f"numerics.csph={csph == 'on'}".lower(),
+                            f"numerics.artificial_stress.epsilon={EPSILON if stress == 'on' else 0}",
+                            f"numerics.h_over_dx={h}"] + args.set
+        s = studylib.run(os.path.join(ROOT, "cases", case), os.path.join(folder, label), sets,
+                         "stability_study")
+        grid[(kernel, stress, csph, h)] = verdict(s)
+        rows.append([kernel, stress, csph, h, s["status"], s.get("healthy"),
+                     s.get("first_unhealthy_time_s", ""), s.get("unhealthy_reason", ""),
+                     round(s.get("max_clumped_fraction", float("nan")), 4),
+                     round(s.get("max_swegle_fraction", float("nan")), 3),
+                     round(s.get("min_pair_distance_over_dx", float("nan")), 3),
+                     round(s.get("max_neighbour_loss_fraction", float("nan")), 4),
+                     round(s["wall_time_s"], 1)])
+    write_table(folder, name,
+                ["kernel", "artificial stress", "CSPH", "h/dx", "status", "healthy",
+                 "first unhealthy (s)", "reason", "max clumped", "max Swegle",
+                 "min pair distance / dx", "neighbour loss", "wall (s)"], rows)
+    plot_map(folder, name, args, grid)
+
+
+def plot_map(folder, name, args, grid):
+    columns = list(itertools.product(args.stress, args.csph))
+    colours = ["#4caf50", "#ff9800", "#e53935"]
+    fig, axes = plt.subplots(1, len(args.h), figsize=(3.2 * len(args.h) + 1, 3.6), squeeze=False)
+    for ax, h in zip(axes[0], args.h):
+        for r, kernel in enumerate(args.kernels):
+            for c, (stress, csph) in enumerate(columns):
+                v = grid.get((kernel, stress, csph, h))
+                if v is not None:
+                    ax.add_patch(plt.Rectangle((c, r), 1, 1, color=colours[v]))
+        ax.set_xlim(0, len(columns))
+        ax.set_ylim(len(args.kernels), 0)
+        ax.set_xticks([c + 0.5 for c in range(len(columns))])
+        ax.set_xticklabels([f"AS {s}\nCSPH {c}" for s, c in columns], fontsize=7)
+        ax.set_yticks([r + 0.5 for r in range(len(args.kernels))])
+        ax.set_yticklabels(args.kernels if ax is axes[0][0] else [], fontsize=7)
+        ax.set_title(f"{name}, h = {h:g} dx", fontsize=9)
+    handles = [plt.Rectangle((0, 0), 1, 1, color=c) for c in colours]
+    fig.legend(handles, ["healthy", "clumped / torn", "blew up"], loc="lower center", ncol=3,
+               fontsize=8)
+    fig.tight_layout(rect=(0, 0.08, 1, 1))
+    fig.savefig(os.path.join(folder, f"{name}_map.png"), dpi=110)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--cases", nargs="+", choices=list(CASES), default=list(CASES))
+    ap.add_argument("--kernels", nargs="+", default=KERNELS)
+    ap.add_argument("--stress", nargs="+", choices=["off", "on"], default=["off", "on"])
+    ap.add_argument("--csph", nargs="+", choices=["off", "on"], default=["off", "on"])
+    ap.add_argument("--h", type=float, nargs="+", default=[1.2, 1.5, 2.0])
+    ap.add_argument("--set", action="append", default=[], help="extra --set for every run")
+    ap.add_argument("--results", default=os.path.join(ROOT, "results"),
+                    help="folder for the runs and tables (default results/)")
+    args = ap.parse_args()
+    for name in args.cases:
+        run_case(args, name)
+
+
+if __name__ == "__main__":
+    main()
