@@ -29,6 +29,21 @@
  * work-conjugate to the deformation rate that the material update uses.
  */
 
+/* Whether j (not i) is a reference neighbour of i, given X_ij = X_i - X_j;
+ * if so its reference volume V0_j = m_j / rho0_j and the gradient
+ * g_ij = grad_X W(|X_ij|) (with respect to X_i). */
+static inline bool tl_reference_pair(bool distinct, vec big_xij, real support2, real h,
+                                     real volume_j, real *volume, vec *grad)
+{
+    const real r2 = dot(big_xij, big_xij);
+    if (!distinct || r2 >= support2)
+        return false;
+    const real r = sqrt(r2);
+    *volume = volume_j;
+    *grad = (kernel_dwdr(r, h) / r) * big_xij;
+    return true;
+}
+
 /* C_i from the reference lattice; run once, before the first step.
  * reads: pos0, mass, material; writes: csph (C_i). */
 __kernel void tl_correction(__global const vec *restrict pos0, __global const real *restrict mass,
@@ -47,11 +62,10 @@ __kernel void tl_correction(__global const vec *restrict pos0, __global const re
     FOR_EACH_NEIGHBOUR(i, j)
     {
         const vec xij = xi - pos0[j];
-        const real r2 = dot(xij, xij);
-        if (j != i && r2 < support2) {
-            const real r = sqrt(r2);
-            const real volume = mass[j] / materials[material[j]].density;
-            const vec grad = (kernel_dwdr(r, h) / r) * xij;
+        real volume;
+        vec grad;
+        if (tl_reference_pair(j != i, xij, support2, h, mass[j] / materials[material[j]].density,
+                              &volume, &grad)) {
             for (int a = 0; a < SPH_DIM; ++a)
                 for (int b = 0; b < SPH_DIM; ++b)
                     moment[a][b] -= volume * vec_get(xij, a) * vec_get(grad, b);
@@ -102,12 +116,10 @@ tl_deformation(__global const vec *restrict pos, __global const vec *restrict po
     real sum_w[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
     FOR_EACH_NEIGHBOUR(i, j)
     {
-        const vec big_xij = big_xi - pos0[j];
-        const real r2 = dot(big_xij, big_xij);
-        if (j != i && r2 < support2) {
-            const real r = sqrt(r2);
-            const real volume = mass[j] / materials[material[j]].density;
-            const vec grad = (kernel_dwdr(r, h) / r) * big_xij;
+        real volume;
+        vec grad;
+        if (tl_reference_pair(j != i, big_xi - pos0[j], support2, h,
+                              mass[j] / materials[material[j]].density, &volume, &grad)) {
             const vec xji = pos[j] - xi, wji = vel_half[j] + xsph_velocity[j] - wi;
             for (int a = 0; a < SPH_DIM; ++a)
                 for (int b = 0; b < SPH_DIM; ++b) {
