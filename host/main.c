@@ -31,7 +31,8 @@ static const char *const usage_run =
     "\n"
     "Writes case.resolved.yaml, snap_NNNNN.h5 + snapshots.xdmf (open in ParaView),\n"
     "history.csv and summary.json. Exit status: 0 completed, 1 bad input, 2 device\n"
-    "error, 3 the run went unstable (the last state is still written).\n";
+    "error, 3 the run went unstable or was stopped unhealthy (health.stop; the last\n"
+    "state is still written).\n";
 
 static const char *const usage_check =
     "usage: sph check CASE [--set key.path=value ...]\n"
