@@ -12,8 +12,10 @@
  * explicit solid codes, which is stable for dt below the CFL limit; the
  * velocity with the lagged acceleration serves only the terms (artificial
  * viscosity, XSPH, energy) that need it at integer time.
- * a^n includes the external load on loaded particles and the optional
- * velocity damping (-c v) of quasi-static runs; fixed particles stay still.
+ * a^n includes the external load on loaded particles, the rigid walls'
+ * contact force and the optional velocity damping (-c v) of quasi-static
+ * runs; fixed particles stay still and symmetry-plane ghosts are copies
+ * (kernels/ghost.cl), never integrated.
  */
 
 /* Rigid walls as a stiff penalty (a contact spring per particle): a particle
