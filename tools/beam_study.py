@@ -65,7 +65,7 @@ def e_av(times, values, reference, window=(1.5e-3, 3.0e-3)):
 
 
 def static(args):
-    folder = os.path.join(ROOT, "results", "beam_static")
+    folder = os.path.join(args.results, "beam_static")
     os.makedirs(folder, exist_ok=True)
     rows, series = [], {}
     for load in args.loads:
@@ -107,7 +107,7 @@ def static(args):
 
 
 def dynamic(args):
-    folder = os.path.join(ROOT, "results", "beam_dynamic")
+    folder = os.path.join(args.results, "beam_dynamic")
     os.makedirs(folder, exist_ok=True)
     rows = []
     fig, ax = plt.subplots(figsize=(7, 4.5))
@@ -145,6 +145,8 @@ def main():
     ap.add_argument("--kernels", nargs="+", default=KERNELS)
     ap.add_argument("--set", action="append", default=[], help="extra --set for every run")
     ap.add_argument("--tag", default="", help="suffix of the table and plot names")
+    ap.add_argument("--results", default=os.path.join(ROOT, "results"),
+                    help="folder for the runs and tables (default results/)")
     args = ap.parse_args()
     if not os.path.exists(studylib.SPH):
         sys.exit(f"beam_study: {studylib.SPH} not found; build first (tools/setup.sh build)")
