@@ -28,10 +28,11 @@ _Static_assert(sizeof(enum sph_strength_type) == sizeof(int), "enum size");
 _Static_assert(sizeof(enum sph_plane_mode) == sizeof(int), "enum size");
 _Static_assert(sizeof(enum sph_load_law) == sizeof(int), "enum size");
 _Static_assert(sizeof(enum sph_shape) == sizeof(int), "enum size");
+_Static_assert(sizeof(enum sph_failure) == sizeof(int), "enum size");
 _Static_assert(sizeof(enum sph_probe_quantity) == sizeof(int), "enum size");
 
 #define ARRAY_LEN(a) ((int)(sizeof(a) / sizeof *(a)))
-#define MAX_FIELDS 16
+#define MAX_FIELDS 20
 #define KEY_MAX 256
 /* start_mark.line of nodes grafted by --set: no file line can be this. */
 #define SET_LINE ((size_t)-1)
@@ -102,6 +103,7 @@ static const char *const plane_names[] = {"stress", "strain", "axisymmetric", NU
 static const char *const eos_names[] = {"linear", "mie_gruneisen", "polynomial", NULL};
 static const char *const strength_names[] = {"elastic", "perfectly_plastic", "johnson_cook", NULL};
 static const char *const shape_names[] = {"box", "cylinder", NULL};
+static const char *const failure_names[] = {"none", "yield", "plastic_strain", NULL};
 static const char *const axis_names[] = {"x", "y", "z", NULL};
 static const char *const law_names[] = {"constant", "linear_ramp", "quadratic_ramp", NULL};
 static const char *const quantity_names[] = {"displacement_x", "displacement_y", "displacement_z",
@@ -723,11 +725,17 @@ static int check_material(struct ctx *x, const struct frame *fr, void *base)
     if (needed_exactly(x, fr, "yield_stress", plastic,
                        "strength is perfectly_plastic or johnson_cook") ||
         needed_exactly(x, fr, "johnson_cook", jc, "strength is johnson_cook") ||
-        needed_exactly(x, fr, "heat_capacity", jc, "strength is johnson_cook") ||
+        needed_exactly(x, fr, "heat_capacity", jc && m->johnson_cook.m > 0,
+                       "strength is johnson_cook with thermal softening (m > 0)") ||
+        needed_exactly(x, fr, "failure_strain", m->failure == SPH_FAILURE_PLASTIC_STRAIN,
+                       "failure is plastic_strain") ||
         needed_exactly(x, fr, "mie_gruneisen", m->eos == SPH_EOS_MIE_GRUNEISEN,
                        "eos is mie_gruneisen") ||
         needed_exactly(x, fr, "polynomial", m->eos == SPH_EOS_POLYNOMIAL, "eos is polynomial"))
         return 1;
+    if (m->failure != SPH_FAILURE_NONE && !plastic)
+        return fail(x, line_of(fr, "failure"), subkey(x, "failure"),
+                    "needs a yield stress: strength perfectly_plastic or johnson_cook");
     return 0;
 }
 
@@ -862,6 +870,26 @@ static int check_numerics(struct ctx *x, const struct frame *fr, void *base)
     return 0;
 }
 
+/* The sphere moves; in an axisymmetric case it stays on the axis. */
+static int check_projectile(struct ctx *x, const struct frame *fr, void *base)
+{
+    struct case_projectile *p = base;
+    double speed2 = 0;
+    for (int a = 0; a < 3; ++a)
+        speed2 += p->velocity[a] * p->velocity[a];
+    if (!(speed2 > 0))
+        return fail(x, line_of(fr, "velocity"), subkey(x, "velocity"),
+                    "expected a non-zero velocity (it sets the impact axis)");
+    if (x->c->dimension == 2 && x->c->plane == SPH_PLANE_AXISYMMETRIC &&
+        (p->centre[0] != 0 || p->velocity[0] != 0))
+        return fail(x, line_of(fr, p->centre[0] != 0 ? "centre" : "velocity"),
+                    subkey(x, p->centre[0] != 0 ? "centre" : "velocity"),
+                    "expected x = 0 in an axisymmetric case (the sphere moves along the axis)");
+    if (!given(fr, "cavity_probe_spacing"))
+        p->cavity_probe_spacing = p->diameter;
+    return 0;
+}
+
 /* The file's basename without its extension, made a valid name. */
 static void default_name(const char *path, char *name, size_t size)
 {
@@ -909,6 +937,13 @@ static int check_case(struct ctx *x, const struct frame *fr, void *base)
     struct sph_case *c = base;
     if (!given(fr, "name"))
         default_name(x->path, c->name, sizeof c->name);
+    for (int b = 0; b < c->body_count; ++b)
+        if (c->bodies[b].grading.enabled &&
+            (c->numerics.total_lagrangian || c->numerics.as_epsilon > 0))
+            return fail(x, line_of(fr, "bodies"), "bodies",
+                        "body '%s' is graded: graded lattices need formulation "
+                        "updated_lagrangian and no artificial stress",
+                        c->bodies[b].name);
     if (c->reference.enabled && !c->has_probe)
         return fail(x, line_of(fr, "reference"), "reference",
                     "needs a probe (add a probe map naming the group to compare)");
@@ -1016,7 +1051,28 @@ static const struct field material_fields[] = {
     NUMBER("heat_capacity", struct case_material, heat_capacity, F_OMIT_ZERO, R_POSITIVE, 0, 0, 0,
            "J/(kg K)"),
     NUMBER("taylor_quinney", struct case_material, taylor_quinney, 0, R_CLOSED, 0, 1, 0.9, NULL),
+    ENUM("failure", struct case_material, failure, 0, SPH_FAILURE_NONE, failure_names, NULL),
+    NUMBER("failure_strain", struct case_material, failure_strain, F_OMIT_ZERO, R_POSITIVE, 0, 0, 0,
+           NULL),
 };
+
+static const struct field grading_fields[] = {
+    VECTOR("fine_min", struct case_grading, fine.min, F_REQUIRED, 0, "m", NULL),
+    VECTOR("fine_max", struct case_grading, fine.max, F_REQUIRED, 0, "m", NULL),
+    INT("layers", struct case_grading, layers, 0, 2, 1000, 6, NULL),
+    INT("levels", struct case_grading, levels, 0, 1, 6, 3, NULL),
+};
+static int check_grading(struct ctx *x, const struct frame *fr, void *base)
+{
+    const struct case_box *b = &((struct case_grading *)base)->fine;
+    for (int a = 0; a < x->c->dimension; ++a)
+        if (!(b->max[a] > b->min[a]))
+            return fail(x, line_of(fr, "fine_max"), subkey(x, "fine_max"),
+                        "expected fine_max greater than fine_min on every axis");
+    return 0;
+}
+static const struct schema grading_schema =
+    SCHEMA(grading_fields, struct case_grading, check_grading);
 
 static const struct field body_fields[] = {
     STRING("name", struct case_body, name, F_REQUIRED | F_UNIQUE, K_NAME),
@@ -1030,6 +1086,8 @@ static const struct field body_fields[] = {
     VECTOR("max", struct case_body, box.max, F_REQUIRED, 0, "m", NULL),
     BOOL("fixed", struct case_body, fixed),
     VECTOR("velocity", struct case_body, velocity, 0, 0, "m/s", NULL),
+    MAP("grading", F_ENABLE, offsetof(struct case_body, grading),
+        offsetof(struct case_body, grading.enabled), grading_schema),
 };
 
 static const struct field load_fields[] = {
@@ -1118,6 +1176,17 @@ static const struct field reference_fields[] = {
     STRING("source", struct case_reference, source, 0, K_STRING),
 };
 
+static const struct field projectile_fields[] = {
+    NUMBER("diameter", struct case_projectile, diameter, F_REQUIRED, R_POSITIVE, 0, 0, 0, "m"),
+    NUMBER("density", struct case_projectile, density, F_REQUIRED, R_POSITIVE, 0, 0, 0, "kg/m^3"),
+    VECTOR("centre", struct case_projectile, centre, F_REQUIRED, 0, "m", NULL),
+    VECTOR("velocity", struct case_projectile, velocity, F_REQUIRED, 0, "m/s", NULL),
+    NUMBER("cavity_probe_spacing", struct case_projectile, cavity_probe_spacing, F_OMIT_ZERO,
+           R_POSITIVE, 0, 0, 0, "m"),
+    INT("cavity_probe_count", struct case_projectile, cavity_probe_count, 0, 1,
+        SPH_MAX_CAVITY_PROBES, SPH_MAX_CAVITY_PROBES, NULL),
+};
+
 static const struct schema material_schema =
     SCHEMA(material_fields, struct case_material, check_material);
 static const struct schema body_schema = SCHEMA(body_fields, struct case_body, check_body);
@@ -1128,6 +1197,8 @@ static const struct schema output_schema = SCHEMA(output_fields, struct case_out
 static const struct schema probe_schema = SCHEMA(probe_fields, struct case_probe, check_probe);
 static const struct schema reference_schema =
     SCHEMA(reference_fields, struct case_reference, check_reference);
+static const struct schema projectile_schema =
+    SCHEMA(projectile_fields, struct case_projectile, check_projectile);
 
 /* Order matters: a field is read after those it depends on (dimension before
  * vectors, materials before bodies, numerics before output...). */
@@ -1149,6 +1220,8 @@ static const struct field case_fields[] = {
         probe_schema),
     MAP("reference", F_ENABLE, offsetof(struct sph_case, reference),
         offsetof(struct sph_case, reference.enabled), reference_schema),
+    MAP("projectile", F_ENABLE, offsetof(struct sph_case, projectile),
+        offsetof(struct sph_case, projectile.enabled), projectile_schema),
 };
 static const struct schema case_schema = SCHEMA(case_fields, struct sph_case, check_case);
 

@@ -73,12 +73,54 @@ void output_history(struct output *o, const struct history_row *r)
     fprintf(o->history,
             "%.9e,%ld,%.6e,%.9e,%.9e,%.9e,%.9e,%.9e,%.6e,%.6e,%.6e,%.6e,%.6e,%.6e,%.6e,%.9e,",
             r->time, r->step, r->dt, r->probe, r->kinetic, r->internal, r->external_work,
-            r->kinetic + r->internal - r->external_work - r->wall_work, r->momentum[0],
-            r->momentum[1], r->momentum[2], r->max_speed, r->wall_force[0], r->wall_force[1],
-            r->wall_force[2], r->wall_work);
+            r->kinetic + r->internal - r->external_work - r->wall_work + r->projectile_energy,
+            r->momentum[0], r->momentum[1], r->momentum[2], r->max_speed, r->wall_force[0],
+            r->wall_force[1], r->wall_force[2], r->wall_work);
     fprintf(o->history, "%.6e,%.6e,%.6e,%.0f,%.3f,%.0f,%.6e\n", r->health.min_pair_distance / r->dx,
             r->health.clumped_fraction, r->health.swegle_fraction, r->health.neighbours_min,
             r->health.neighbours_mean, r->health.neighbours_max, r->energy_error);
+}
+
+int output_ballistics_open(struct output *o, const struct projectile *p, char *error,
+                           size_t error_size)
+{
+    char path[SPH_PATH_MAX + 64];
+    snprintf(path, sizeof path, "%s/ballistics.csv", o->folder);
+    o->ballistics = fopen(path, "w");
+    if (!o->ballistics) {
+        snprintf(error, error_size, "cannot write %s: %s", path, strerror(errno));
+        return 1;
+    }
+    o->cavity_probes = p->probe_count;
+    fprintf(o->ballistics,
+            "time_s,penetration_m,velocity_m_per_s,decelerating_force_N,contact_particles,"
+            "system_momentum_kg_m_per_s,projectile_kinetic_energy_J,contact_energy_J,"
+            "centre_x_m,centre_y_m,centre_z_m");
+    for (int pass = 0; pass < 2; ++pass)
+        for (int k = 0; k < p->probe_count; ++k)
+            fprintf(o->ballistics, ",cavity_%s_m_at_%.4gum", pass ? "d2" : "d1",
+                    1e6 * (k + 1) * p->probe_spacing);
+    fputc('\n', o->ballistics);
+    return 0;
+}
+
+void output_ballistics(struct output *o, const struct ballistics_row *r)
+{
+    const struct projectile_reading *p = &r->p;
+    double force = 0;
+    for (int a = 0; a < 3; ++a)
+        force += p->force[a] * p->velocity[a];
+    const double speed = sqrt(p->velocity[0] * p->velocity[0] + p->velocity[1] * p->velocity[1] +
+                              p->velocity[2] * p->velocity[2]);
+    fprintf(o->ballistics, "%.9e,%.9e,%.9e,%.6e,%d,%.9e,%.9e,%.6e,%.9e,%.9e,%.9e", r->time,
+            p->penetration, p->speed_along_axis, speed > 0 ? -force / speed : 0.0, p->contacts,
+            r->system_momentum, r->projectile_kinetic, p->contact_energy, p->position[0],
+            p->position[1], p->position[2]);
+    for (int k = 0; k < o->cavity_probes; ++k)
+        fprintf(o->ballistics, ",%.6e", p->cavity_d1[k]);
+    for (int k = 0; k < o->cavity_probes; ++k)
+        fprintf(o->ballistics, ",%.6e", p->cavity_d2[k]);
+    fputc('\n', o->ballistics);
 }
 
 static int write_dataset(hid_t file, const char *name, hid_t type, const void *data, hsize_t rows,
@@ -192,6 +234,8 @@ int output_snapshot(struct output *o, const struct host_fields *f, double time, 
         return 1;
     }
     fflush(o->history);
+    if (o->ballistics)
+        fflush(o->ballistics);
     return 0;
 }
 
@@ -259,6 +303,19 @@ int output_summary(struct output *o, const struct run_summary *s)
         json_number(f, "first_unhealthy_time_s", s->first_unhealthy_time, 0);
         json_string(f, "unhealthy_reason", s->unhealthy_reason);
     }
+    if (s->has_projectile) {
+        json_number(f, "max_penetration_m", s->max_penetration_m, 0);
+        json_number(f, "time_of_max_penetration_s", s->time_of_max_penetration_s, 0);
+        json_number(f, "final_penetration_m", s->final_penetration_m, 0);
+        json_number(f, "final_projectile_velocity_m_per_s", s->final_projectile_velocity_m_per_s,
+                    0);
+        fprintf(f, "  \"rebound\": %s,\n",
+                s->final_projectile_velocity_m_per_s < 0 ? "true" : "false");
+        json_number(f, "max_cavity_diameter_m", s->max_cavity_diameter_m, 0);
+        json_number(f, "max_damaged_diameter_m", s->max_damaged_diameter_m, 0);
+        json_number(f, "momentum_error", s->momentum_error, 0);
+        json_number(f, "damaged_fraction", s->damaged_fraction, 0);
+    }
     if (s->has_plasticity) {
         json_number(f, "max_plastic_strain", s->max_plastic_strain, 0);
         json_number(f, "max_temperature_K", s->max_temperature_K, 0);
@@ -273,6 +330,8 @@ void output_close(struct output *o)
 {
     if (o->history)
         fclose(o->history);
+    if (o->ballistics)
+        fclose(o->ballistics);
     free(o->snapshot_times);
     memset(o, 0, sizeof *o);
 }

@@ -18,6 +18,16 @@ struct output {
     int particle_count;
     int dim;
     char probe_name[SPH_NAME_MAX];
+    FILE *ballistics; /* ballistics.csv, with a projectile */
+    int cavity_probes;
+};
+
+/* One row of ballistics.csv (with a projectile). */
+struct ballistics_row {
+    double time;
+    struct projectile_reading p;
+    double system_momentum;    /* target + projectile along the impact axis, kg m/s */
+    double projectile_kinetic; /* J */
 };
 
 /* One row of history.csv. */
@@ -30,9 +40,10 @@ struct history_row {
     double max_speed;
     double dx; /* lattice spacing, m (the pair distance is written over it) */
     struct health_reading health;
-    double energy_error;  /* (E - E0) / energy scale */
-    double wall_force[3]; /* on the walls, mean since the previous row, N */
-    double wall_work;     /* work of the wall forces on the particles so far, J */
+    double energy_error;      /* (E - E0) / energy scale */
+    double wall_force[3];     /* on the walls, mean since the previous row, N */
+    double wall_work;         /* work of the wall forces on the particles so far, J */
+    double projectile_energy; /* projectile kinetic + contact spring energy, J */
 };
 
 /* The figures a run ends with (summary line and summary.json). */
@@ -60,6 +71,13 @@ struct run_summary {
     double min_pair_distance_over_dx, max_clumped_fraction, max_swegle_fraction;
     double first_unhealthy_time; /* s, < 0 while healthy */
     const char *unhealthy_reason;
+    /* with a projectile (host/run.c) */
+    int has_projectile;
+    double max_penetration_m, time_of_max_penetration_s, final_penetration_m;
+    double final_projectile_velocity_m_per_s; /* along the impact axis; negative: rebound */
+    double max_cavity_diameter_m, max_damaged_diameter_m;
+    double momentum_error; /* largest |p(t) - p(0)| / |p(0)| along the impact axis */
+    double damaged_fraction;
 };
 
 /* Creates the folder (and parents), writes case.resolved.yaml and opens
@@ -69,6 +87,10 @@ int output_open(struct output *o, const char *folder, const struct sph_case *c, 
 int output_snapshot(struct output *o, const struct host_fields *f, double time, long step,
                     char *error, size_t error_size);
 void output_history(struct output *o, const struct history_row *row);
+/* ballistics.csv: opened when the case has a projectile. */
+int output_ballistics_open(struct output *o, const struct projectile *p, char *error,
+                           size_t error_size);
+void output_ballistics(struct output *o, const struct ballistics_row *row);
 int output_summary(struct output *o, const struct run_summary *s);
 void output_close(struct output *o);
 

@@ -19,6 +19,15 @@ static double wall_seconds(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+/* What the loop tracks of a projectile (host/ballistics.c). */
+struct ballistics_track {
+    double energy;    /* projectile kinetic + contact energy at the last row, J */
+    double momentum0; /* M v0 along the axis, kg m/s */
+    double max_penetration, time_of_max, final_penetration, final_velocity;
+    double max_d1, max_d2, momentum_error;
+    double damaged_fraction; /* largest over the snapshots */
+};
+
 /* Everything the loop carries from step to step. */
 struct loop {
     const struct sph_case *c;
@@ -33,11 +42,13 @@ struct loop {
     double probe, window_sum, window_error_sum;
     long window_steps;
     int *initial_neighbours, *neighbours;
+    char *damaged; /* per particle (by id), from the last snapshot */
     double max_neighbour_loss;
     double wall_work, wall_impulse[3], impulse_since_row_time; /* J, N s, s */
     double final_length, footprint_radius, max_plastic_strain, max_temperature;
     double min_pair_distance, max_clumped, max_swegle;
     double first_unhealthy_time; /* s; < 0 while healthy */
+    struct ballistics_track ballistics;
     char unhealthy_reason[256];
     struct reduction red;
     char message[1024];
@@ -116,8 +127,44 @@ static int watch_health(struct loop *L, struct history_row *row)
     return 1;
 }
 
+/* The projectile's row of ballistics.csv and its running extremes. */
+static void track_projectile(struct loop *L)
+{
+    const struct projectile *p = &L->s->projectile;
+    struct ballistics_track *b = &L->ballistics;
+    struct ballistics_row row = {.time = L->t};
+    solver_projectile_read(L->s, &row.p);
+    double speed2 = 0, target = 0;
+    for (int a = 0; a < 3; ++a) {
+        speed2 += row.p.velocity[a] * row.p.velocity[a];
+        target += L->red.momentum[a] * p->axis[a];
+    }
+    row.projectile_kinetic = 0.5 * p->mass * speed2;
+    row.system_momentum = p->momentum_scale * target + p->mass * row.p.speed_along_axis;
+    b->energy = row.projectile_kinetic + row.p.contact_energy;
+    if (L->step == 0)
+        b->momentum0 = row.system_momentum;
+    b->momentum_error =
+        fmax(b->momentum_error, fabs(row.system_momentum - b->momentum0) / fabs(b->momentum0));
+    if (row.p.penetration > b->max_penetration) {
+        b->max_penetration = row.p.penetration;
+        b->time_of_max = L->t;
+    }
+    b->final_penetration = row.p.penetration;
+    b->final_velocity = row.p.speed_along_axis;
+    for (int k = 0; k < p->probe_count; ++k) {
+        b->max_d1 = fmax(b->max_d1, row.p.cavity_d1[k]);
+        b->max_d2 = fmax(b->max_d2, row.p.cavity_d2[k]);
+    }
+    output_ballistics(L->out, &row);
+}
+
 static int write_history(struct loop *L)
 {
+    if (L->s->projectile.enabled) {
+        track_projectile(L);
+        L->energy_excursion = fmax(L->energy_excursion, fabs(total_energy(L) - L->energy_start));
+    }
     struct history_row row = {.time = L->t,
                               .dt = L->dt,
                               .step = L->step,
@@ -128,6 +175,7 @@ static int write_history(struct loop *L)
                               .max_speed = L->red.max_speed};
     memcpy(row.momentum, L->red.momentum, sizeof row.momentum);
     row.wall_work = L->wall_work;
+    row.projectile_energy = L->ballistics.energy;
     for (int a = 0; a < 3; ++a) /* the reaction on the walls */
         row.wall_force[a] =
             L->impulse_since_row_time > 0 ? -L->wall_impulse[a] / L->impulse_since_row_time : 0.0;
@@ -143,8 +191,8 @@ static void measure_integrity(struct loop *L)
 {
     solver_neighbour_counts(L->s, L->neighbours);
     int lost = 0;
-    for (int p = 0; p < L->s->n_real; ++p)
-        lost += 3 * L->neighbours[p] < 2 * L->initial_neighbours[p]; /* lost over a third */
+    for (int p = 0; p < L->s->n_real; ++p) /* failed material may separate */
+        lost += 3 * L->neighbours[p] < 2 * L->initial_neighbours[p] && !L->damaged[p];
     L->max_neighbour_loss = fmax(L->max_neighbour_loss, (double)lost / L->s->n_real);
 }
 
@@ -157,10 +205,15 @@ static void measure_integrity(struct loop *L)
 static void measure_impact(struct loop *L, const struct host_fields *f)
 {
     const double dx = L->c->numerics.dx;
+    int damaged = 0;
     for (int p = 0; p < f->n; ++p) {
         L->max_plastic_strain = fmax(L->max_plastic_strain, f->plastic_strain[p]);
         L->max_temperature = fmax(L->max_temperature, f->temperature[p]);
+        L->damaged[p] = (f->flags[p] & SPH_FLAG_DAMAGED) != 0;
+        damaged += L->damaged[p];
     }
+    L->ballistics.damaged_fraction =
+        fmax(L->ballistics.damaged_fraction, (double)damaged / (f->n > 0 ? f->n : 1));
     if (L->c->wall_count == 0)
         return;
     const struct case_wall *w = &L->c->walls[0];
@@ -253,7 +306,8 @@ static int check_health(struct loop *L)
 
 static double total_energy(const struct loop *L)
 {
-    return L->red.kinetic + L->red.internal - L->external_work - L->wall_work;
+    return L->red.kinetic + L->red.internal - L->external_work - L->wall_work +
+           L->ballistics.energy;
 }
 
 static int one_step(struct loop *L)
@@ -286,8 +340,10 @@ static int one_step(struct loop *L)
         L->wall_impulse[a] += L->red.wall_force[a] * L->dt;
     L->impulse_since_row_time += L->dt;
     L->energy_scale =
-        fmax(L->energy_scale, fmax(fabs(L->external_work), L->red.kinetic + fabs(L->red.internal)));
-    L->energy_excursion = fmax(L->energy_excursion, fabs(total_energy(L) - L->energy_start));
+        fmax(L->energy_scale, fmax(fabs(L->external_work),
+                                   L->red.kinetic + fabs(L->red.internal) + L->ballistics.energy));
+    if (!L->s->projectile.enabled) /* else at history rows, when its energy is read */
+        L->energy_excursion = fmax(L->energy_excursion, fabs(total_energy(L) - L->energy_start));
     track_probe(L);
     return check_health(L);
 }
@@ -337,6 +393,16 @@ static void finish_summary(struct loop *L, struct run_summary *sum)
     }
     sum->first_unhealthy_time = L->first_unhealthy_time;
     sum->unhealthy_reason = L->unhealthy_reason;
+    const struct ballistics_track *b = &L->ballistics;
+    sum->has_projectile = L->s->projectile.enabled;
+    sum->max_penetration_m = b->max_penetration;
+    sum->time_of_max_penetration_s = b->time_of_max;
+    sum->final_penetration_m = b->final_penetration;
+    sum->final_projectile_velocity_m_per_s = b->final_velocity;
+    sum->max_cavity_diameter_m = b->max_d1;
+    sum->max_damaged_diameter_m = b->max_d2;
+    sum->momentum_error = b->momentum_error;
+    sum->damaged_fraction = b->damaged_fraction;
 }
 
 static void print_summary_line(const struct run_summary *sum, const char *folder)
@@ -414,9 +480,14 @@ static int start(struct loop *L, char *error, size_t size)
     L->first_unhealthy_time = -1;
     L->initial_neighbours = malloc(sizeof(int) * (size_t)L->s->n_real);
     L->neighbours = malloc(sizeof(int) * (size_t)L->s->n_real);
+    L->damaged = calloc((size_t)L->s->n_real, 1);
+    if (L->s->projectile.enabled && output_ballistics_open(L->out, &L->s->projectile, error, size))
+        return 1;
     solver_neighbour_counts(L->s, L->initial_neighbours);
     track_probe(L);
     write_history(L);
+    L->energy_start = total_energy(L); /* now with the projectile's energy read */
+    L->energy_excursion = 0;
     L->next_history = L->c->output.history_interval;
     L->next_snapshot = L->c->output.snapshot_interval;
     if (write_snapshot(L)) {
@@ -506,6 +577,7 @@ int run_case(const struct run_options *opt)
     }
     free(L.initial_neighbours);
     free(L.neighbours);
+    free(L.damaged);
     output_close(&out);
     solver_release(&s);
     device_close(&dev);

@@ -93,6 +93,34 @@ struct kernels {
     cl_kernel pass1, material, pass2, kick, drift, reduce, neighbour_count;
     cl_kernel tl_correction, tl_deformation, tl_first_piola, tl_momentum;
     cl_kernel health;
+    cl_kernel projectile_contact, projectile_advance, projectile_cavity;
+};
+
+/* The rigid projectile (host/ballistics.c, kernels/projectile.cl). */
+struct projectile {
+    int enabled;
+    cl_mem state;            /* SPH_PROJ_SLOTS reals */
+    cl_mem contact_partials; /* SPH_CONTACT_SLOTS per reduce group */
+    double radius, mass;     /* m, kg */
+    double stiffness_speed;  /* m/s: the contact spring's wave speed */
+    double scale;            /* particle sums to whole-model force */
+    double mask[3];          /* 0 for components normal to a symmetry plane */
+    double axis[3];          /* unit impact direction (initial velocity) */
+    double origin[3];        /* initial centre: the track is origin + s axis */
+    double surface;          /* the target's face along axis: min of x.axis - dx_i/2, m */
+    double momentum_scale;   /* particle momentum sums to whole-model momentum */
+    double probe_spacing;
+    int probe_count;
+};
+
+/* What the history reads of the projectile. */
+struct projectile_reading {
+    double position[3], velocity[3], force[3]; /* m, m/s, N */
+    double contact_energy;                     /* J */
+    int contacts;
+    double penetration;      /* nose depth below the surface along the axis, m */
+    double speed_along_axis; /* m/s, positive into the target */
+    double cavity_d1[SPH_MAX_CAVITY_PROBES], cavity_d2[SPH_MAX_CAVITY_PROBES]; /* m */
 };
 
 /* What the per-step reduction returns, combined in double. */
@@ -128,6 +156,7 @@ struct solver {
     double skin;            /* grid margin as a fraction of the support */
     double thickness_scale; /* 2-D: thickness, so energies come out in J */
     int probe_count;
+    struct projectile projectile;
 };
 
 /* The largest longitudinal sound speed over the case's materials, m/s. */
@@ -180,6 +209,15 @@ int solver_ghosts_rebuild(struct solver *s, char *error, size_t error_size);
 void solver_ghosts_reindex(struct solver *s);
 void solver_ghosts_refresh(struct solver *s, const enum field *fields, int count);
 void solver_ghosts_release(struct solver *s);
+
+/* The rigid projectile (host/ballistics.c): set-up from the case and the
+ * scene, the two launches of a step, and the history's reading. */
+int solver_projectile_create(struct solver *s, const struct sph_case *c,
+                             const struct sph_scene *scene, char *error, size_t error_size);
+void solver_projectile_contact(struct solver *s);
+void solver_projectile_advance(struct solver *s, double dt, double dt_prev);
+void solver_projectile_read(struct solver *s, struct projectile_reading *out);
+void solver_projectile_release(struct solver *s);
 
 /* Shared launch helpers (host/step.c). */
 void solver_launch(struct solver *s, cl_kernel k, size_t global, size_t local);

@@ -179,6 +179,9 @@ static struct material_double material_entry(const struct case_material *cm)
     m.room_temperature = cm->room_temperature;
     m.heat_capacity = cm->heat_capacity;
     m.taylor_quinney = cm->taylor_quinney;
+    m.failure_strain = cm->failure == SPH_FAILURE_NONE    ? -1.0
+                       : cm->failure == SPH_FAILURE_YIELD ? 0.0
+                                                          : cm->failure_strain;
     m.eos = cm->eos;
     m.strength = cm->strength;
     return m;

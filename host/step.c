@@ -1,5 +1,6 @@
 /* The fixed list of kernel launches: grid sort, pass 1, material, pass 2,
  * integrate, reduce. */
+#include "launch.h"
 #include "solver.h"
 
 #include <math.h>
@@ -30,26 +31,6 @@ static cl_kernel make_kernel(struct solver *s, const char *name)
     return k;
 }
 
-/* Sets the kernel's arguments from a list of (size, pointer) pairs. */
-struct arg {
-    size_t size;
-    const void *value;
-};
-#define MEM(m) ((struct arg){sizeof(cl_mem), &(m)})
-#define INT(i) ((struct arg){sizeof(cl_int), &(i)})
-#define RAW(size, p) ((struct arg){(size), (p)})
-
-/* SET_ARGS(kernel, a, b, ...) sets every argument, counting them itself. */
-#define SET_ARGS(k, ...)                                                                           \
-    set_args((k), (struct arg[]){__VA_ARGS__},                                                     \
-             (int)(sizeof((struct arg[]){__VA_ARGS__}) / sizeof(struct arg)))
-
-static void set_args(cl_kernel k, const struct arg *args, int count)
-{
-    for (int a = 0; a < count; ++a)
-        CL_CHECK(clSetKernelArg(k, (cl_uint)a, args[a].size, args[a].value));
-}
-
 static void launch(struct solver *s, cl_kernel k, size_t global, size_t local)
 {
     /* an explicit work-group size: PoCL's own choice for a NULL size costs
@@ -63,34 +44,6 @@ static void launch(struct solver *s, cl_kernel k, size_t global, size_t local)
         fprintf(stderr, "sph: launching kernel %s (%zu work-items) failed\n", name, g);
         cl_fail("clEnqueueNDRangeKernel", err, __FILE__, __LINE__);
     }
-}
-
-/* A real scalar argument in the device precision. */
-struct real_arg {
-    cl_double d;
-    cl_float f;
-};
-static struct arg real_value(const struct solver *s, struct real_arg *holder, double v)
-{
-    holder->d = v;
-    holder->f = (cl_float)v;
-    return s->double_precision ? RAW(sizeof(cl_double), &holder->d)
-                               : RAW(sizeof(cl_float), &holder->f);
-}
-
-/* A real4 argument in the device precision. */
-struct real4_arg {
-    cl_double4 d;
-    cl_float4 f;
-};
-static struct arg real4_value(const struct solver *s, struct real4_arg *holder, const double v[3])
-{
-    for (int a = 0; a < 4; ++a) {
-        holder->d.s[a] = a < 3 ? v[a] : 0.0;
-        holder->f.s[a] = (cl_float)holder->d.s[a];
-    }
-    return s->double_precision ? RAW(sizeof(cl_double4), &holder->d)
-                               : RAW(sizeof(cl_float4), &holder->f);
 }
 
 cl_kernel solver_make_kernel(struct solver *s, const char *name)
@@ -207,11 +160,13 @@ int solver_create(struct solver *s, struct sph_device *dev, const struct sph_cas
         return 1;
     solver_upload_constants(s, c);
     create_kernels(s);
-    return solver_ghosts_create(s, error, error_size);
+    return solver_ghosts_create(s, error, error_size) ||
+           solver_projectile_create(s, c, scene, error, error_size);
 }
 
 void solver_release(struct solver *s)
 {
+    solver_projectile_release(s);
     solver_ghosts_release(s);
     release_kernels(s);
     solver_release_buffers(s);
@@ -381,9 +336,9 @@ static void material(struct solver *s, double dt)
     SET_ARGS(s->k.material, MEM(f[FIELD_RHO]), MEM(f[FIELD_DENSITY_CHANGE]), MEM(f[FIELD_ENERGY]),
              MEM(f[FIELD_STRESS]), MEM(f[FIELD_PLASTIC_STRAIN]), MEM(f[FIELD_TEMPERATURE]),
              MEM(f[FIELD_VELOCITY_GRADIENT]), MEM(f[FIELD_DENSITY_RATE]), MEM(f[FIELD_ENERGY_RATE]),
-             MEM(f[FIELD_MATERIAL]), MEM(f[FIELD_POS]), MEM(f[FIELD_VEL_HALF]), MEM(s->materials),
-             MEM(s->run_params), real_value(s, &a_dt, dt), MEM(f[FIELD_PRESSURE]),
-             MEM(f[FIELD_ARTIFICIAL_STRESS]), INT(s->n));
+             MEM(f[FIELD_MATERIAL]), MEM(f[FIELD_FLAGS]), MEM(f[FIELD_POS]), MEM(f[FIELD_VEL_HALF]),
+             MEM(s->materials), MEM(s->run_params), real_value(s, &a_dt, dt),
+             MEM(f[FIELD_PRESSURE]), MEM(f[FIELD_ARTIFICIAL_STRESS]), INT(s->n));
     launch(s, s->k.material, (size_t)s->n, 0);
 }
 
@@ -480,12 +435,16 @@ void solver_step(struct solver *s, double dt, double dt_prev, const double load[
         tl_momentum(s);
     else
         pass2(s);
+    if (s->projectile.enabled)
+        solver_projectile_contact(s); /* adds to the accelerations */
     SET_ARGS(s->k.kick, MEM(f[FIELD_VEL]), MEM(f[FIELD_VEL_HALF]), MEM(f[FIELD_ACCELERATION]),
              MEM(f[FIELD_MASS]), MEM(f[FIELD_FLAGS]), MEM(f[FIELD_POS]), MEM(f[FIELD_MATERIAL]),
              MEM(s->materials), MEM(s->run_params), MEM(s->walls), INT(s->wall_count),
              real_value(s, &a_dx, s->dx), real_value(s, &a_dt, dt), real_value(s, &a_prev, dt_prev),
              real4_value(s, &a_load, load), MEM(f[FIELD_WALL_FORCE]), INT(s->n));
     launch(s, s->k.kick, (size_t)s->n, 0);
+    if (s->projectile.enabled)
+        solver_projectile_advance(s, dt, dt_prev);
     deformation_and_material(s, dt);
     SET_ARGS(s->k.drift, MEM(f[FIELD_POS]), MEM(f[FIELD_DISPLACEMENT]), MEM(f[FIELD_POS0]),
              MEM(f[FIELD_VEL_HALF]), MEM(f[FIELD_XSPH_VELOCITY]), MEM(f[FIELD_FLAGS]),

@@ -28,6 +28,11 @@ enum sph_load_law {
 
 enum sph_shape { SPH_SHAPE_BOX = 0, SPH_SHAPE_CYLINDER = 1 };
 
+/* When a particle fails (kernels/material.cl): never, at first yield (the
+ * thesis' soft-tissue criterion, 4.3.2), or past an equivalent plastic
+ * strain. A failed particle carries no deviatoric stress and no tension. */
+enum sph_failure { SPH_FAILURE_NONE = 0, SPH_FAILURE_YIELD = 1, SPH_FAILURE_PLASTIC_STRAIN = 2 };
+
 enum sph_probe_quantity {
     SPH_PROBE_DISPLACEMENT_X = 0,
     SPH_PROBE_DISPLACEMENT_Y = 1,
@@ -62,9 +67,11 @@ struct case_material {
     enum sph_strength_type strength; /* "elastic" (default), "perfectly_plastic", "johnson_cook" */
     double yield_stress;             /* Pa (Johnson-Cook A), required unless elastic */
     struct case_johnson_cook johnson_cook;
-    double room_temperature; /* K, initial temperature, default 293 */
-    double heat_capacity;    /* J/(kg K), required for johnson_cook */
-    double taylor_quinney;   /* fraction of plastic work that heats, default 0.9 */
+    double room_temperature;  /* K, initial temperature, default 293 */
+    double heat_capacity;     /* J/(kg K), required for johnson_cook */
+    double taylor_quinney;    /* fraction of plastic work that heats, default 0.9 */
+    enum sph_failure failure; /* default none */
+    double failure_strain;    /* required with failure plastic_strain */
 };
 
 /* A region: an axis-aligned box [min, max] (m). In 2-D the z entries are 0. */
@@ -92,6 +99,28 @@ struct case_body {
     int has_centre;
     int fixed;          /* every particle of the body has zero velocity */
     double velocity[3]; /* initial velocity, m/s, default 0 */
+    /* Graded lattice (host/scene.c): spacing dx inside the fine box, then
+     * shells of `layers` particles at 2 dx, 4 dx, ... up to 2^levels dx,
+     * which fills the rest of the body. */
+    struct case_grading {
+        int enabled;
+        struct case_box fine; /* the finest region, m */
+        int layers;           /* particle layers per shell, default 6 */
+        int levels;           /* coarsest level k (spacing 2^k dx), default 3 */
+    } grading;
+};
+
+/* A rigid sphere shot into the target (kernels/projectile.cl), with the
+ * ballistic outputs: penetration, velocity, force, cavity diameters at
+ * probe depths along the track (host/ballistics.c). */
+struct case_projectile {
+    int enabled;
+    double diameter;             /* m, required */
+    double density;              /* kg/m^3, required */
+    double centre[3];            /* initial centre, m, required */
+    double velocity[3];          /* initial velocity, m/s, required (not zero) */
+    double cavity_probe_spacing; /* m, default the diameter */
+    int cavity_probe_count;      /* probe depths k spacing, k = 1..count; default 8 */
 };
 
 /* A named group of particles: those of `body` (or any body if body < 0)
@@ -187,6 +216,7 @@ struct sph_case {
     int has_probe;
     struct case_probe probe;
     struct case_reference reference;
+    struct case_projectile projectile;
 };
 
 /* Loads and validates `path`, then applies `set_count` overrides of the form

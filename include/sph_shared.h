@@ -58,6 +58,38 @@ enum sph_flag {
     SPH_FLAG_GHOST = 32   /* mirror image of a real particle (symmetry planes): not integrated */
 };
 
+/* Graded lattices (host/scene.c): bits 8-11 of a particle's flags hold its
+ * spacing level k (spacing 2^k numerics.dx, smoothing length 2^k h) and
+ * bits 12-19 how many grid cells its neighbour search reaches (1 on a
+ * uniform lattice). */
+#define SPH_LEVEL_SHIFT 8
+#define SPH_LEVEL_MASK 15
+#define SPH_REACH_SHIFT 12
+#define SPH_REACH_MASK 255
+
+/* The rigid projectile (a sphere; kernels/projectile.cl): its state on the
+ * device, one real per slot. Position and velocity are the leap-frog's
+ * (x^n, v^(n-1/2)); force and contact energy are those of the last step. */
+enum sph_projectile_slot {
+    SPH_PROJ_X = 0,              /* centre, m (x, y, z) */
+    SPH_PROJ_V = 3,              /* velocity, m/s */
+    SPH_PROJ_F = 6,              /* force of the target on the sphere, N (whole model) */
+    SPH_PROJ_CONTACT_ENERGY = 9, /* energy stored in the contact springs, J */
+    SPH_PROJ_CONTACTS = 10,      /* particles in contact */
+    SPH_PROJ_SLOTS = 16
+};
+/* Per-work-group partials of the contact kernel. */
+enum sph_contact_slot {
+    SPH_CONTACT_FX = 0, /* sum of contact forces on the particles, N (per m or radian in 2-D) */
+    SPH_CONTACT_ENERGY = 3,
+    SPH_CONTACT_COUNT = 4,
+    SPH_CONTACT_SLOTS = 8
+};
+/* Cavity probes (kernels/projectile.cl, projectile_cavity): per probe
+ * depth, the smallest distance of any particle from the track and the
+ * largest of a damaged one. */
+#define SPH_MAX_CAVITY_PROBES 8
+
 /* Material constants, SI units, one entry per material, indexed by the
  * particle's material id. The real members are listed once, here, so that
  * the host can build the same layout in double for a double-precision
@@ -81,13 +113,15 @@ enum sph_flag {
  *   room_temperature   T_room (initial temperature), K
  *   heat_capacity      c_p, J/(kg K)
  *   taylor_quinney     fraction of plastic work that heats
- *   spare              keeps the count even */
+ *   failure_strain     equivalent plastic strain past which the particle
+ *                      fails (0: at first yield, the thesis' soft-tissue
+ *                      criterion); negative: no failure */
 /* clang-format off */
 #define SPH_MATERIAL_REALS(X)                                                                      \
     X(density) X(bulk_modulus) X(shear_modulus) X(sound_speed) X(yield_stress) X(hardening_b)     \
     X(hardening_n) X(plane_stress_nu) X(eos_c0) X(eos_s) X(eos_gamma0) X(eos_p0) X(jc_rate_c)     \
     X(jc_reference_rate) X(jc_thermal_m) X(melt_temperature) X(room_temperature)                  \
-    X(heat_capacity) X(taylor_quinney) X(spare)
+    X(heat_capacity) X(taylor_quinney) X(failure_strain)
 /* clang-format on */
 #define SPH_DECLARE_REAL(name) real name;
 struct sph_material {

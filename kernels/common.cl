@@ -237,6 +237,31 @@ static inline real plane_mass(real mass, vec x)
 #endif
 }
 
+/* A particle's lattice spacing over numerics.dx (graded lattices:
+ * host/scene.c); 1 on a uniform lattice. */
+static inline real spacing_scale(int flag)
+{
+    return (real)(1 << ((flag >> SPH_LEVEL_SHIFT) & SPH_LEVEL_MASK));
+}
+
+/* A neighbour's mass as the momentum and energy sums weigh it: in an
+ * axisymmetric case m_j / r_ij with the pair's mean radius
+ * r_ij = (r_i + |r_j|) / 2 instead of r_j, so that the force ring i takes
+ * from ring j, m_i m_j / r_ij (...), is exactly minus the one j takes from
+ * i and the axial momentum of target and projectile is conserved to
+ * round-off (with m_j / r_j the pair forces differ by O(dx / r), which
+ * near the axis is O(1)). Elsewhere the mass itself. */
+static inline real pair_mass(real mass_j, vec xi, vec xj)
+{
+#ifdef SPH_AXISYMMETRIC
+    return (real)2 * mass_j / (fabs(xi.x) + fabs(xj.x));
+#else
+    (void)xi;
+    (void)xj;
+    return mass_j;
+#endif
+}
+
 /* Work-group size of the reduction kernels (grid bounds, per-step reduce). */
 #define REDUCE_WG 64
 

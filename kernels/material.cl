@@ -150,6 +150,7 @@ __kernel void material_update(
     __global real *restrict plastic_strain, __global real *restrict temperature,
     __global const fullt *restrict velocity_gradient, __global const real *restrict density_rate,
     __global const real *restrict energy_rate, __global const int *restrict material,
+    __global int *restrict flags,
     __global const vec *restrict pos, __global const vec *restrict vel_half,
     __constant const struct sph_material *materials, __constant const struct sph_run_params *run,
     const real dt, __global real *restrict pressure, __global symt *restrict artificial_stress,
@@ -169,7 +170,10 @@ __kernel void material_update(
     (void)pos;
     (void)vel_half;
 #endif
-    jaumann_stress_rate(s, d, w, m->shear_modulus, rate);
+    /* a failed particle (thesis 4.3.2) is a fluid: no deviatoric stress,
+     * and no tension in the pressure it works with */
+    const bool was_failed = (flags[i] & SPH_FLAG_DAMAGED) != 0;
+    jaumann_stress_rate(s, d, w, was_failed ? (real)0 : m->shear_modulus, rate);
     /* stress power with the mid-step stress (sigma^n + sigma^(n+1)) / 2 and
      * the half-step strain rate: for an elastic solid this integrates the
      * strain energy exactly; the SPH form of L makes it the counterpart of
@@ -198,15 +202,32 @@ __kernel void material_update(
     const real change = density_change[i] + dt * density_rate[i];
     const real density = m->density + change;
     const real e_trial = energy[i] + dt * energy_rate[i];
-    const real p_trial = pressure_eos(m, change / m->density, e_trial);
+    real p_trial = pressure_eos(m, change / m->density, e_trial);
+    if (was_failed)
+        p_trial = fmax(p_trial, (real)0);
     const real power = (real)0.5 * (power_deviatoric - (p_old + p_trial) * trace_d);
     const real e = e_trial + dt * power / rho[i];
     const real p = pressure_eos(m, change / m->density, e);
     density_change[i] = change;
     rho[i] = density;
     energy[i] = e;
+#ifdef SPH_PLASTICITY
+    /* failure (thesis 4.3.2): past the material's plastic strain (0: at
+     * first yield) the particle keeps only its pressure, and no tension */
+    const bool failed =
+        was_failed || (m->failure_strain >= 0 && plastic_strain[i] > m->failure_strain);
+    if (failed) {
+        flags[i] |= SPH_FLAG_DAMAGED;
+        for (int a = 0; a < 3; ++a)
+            for (int b = 0; b < 3; ++b)
+                s[a][b] = 0;
+    }
+    deviatoric_stress[i] = symt_store(s);
+    pressure[i] = failed ? fmax(p, (real)0) : p;
+#else
     deviatoric_stress[i] = symt_store(s);
     pressure[i] = p;
+#endif
 #ifdef SPH_ARTIFICIAL_STRESS
     real sigma[3][3], r[3][3];
     for (int a = 0; a < 3; ++a)

@@ -133,7 +133,15 @@ __kernel void pass2_momentum_energy(
         if (j != i && r2 < support2) {
             const real r = sqrt(r2);
             const vec vij = vi - vel[j];
+            /* axisymmetric: sigma_i weighed by m_j / r_j, sigma_j by m_j / r_i,
+             * the artificial terms by m_j / r_ij (common.cl, pair_mass) */
             const real rho_j = rho[j], m_j = plane_mass(mass[j], pos[j]);
+            const real m_pair = pair_mass(mass[j], xi, pos[j]);
+#ifdef SPH_AXISYMMETRIC
+            const real m_j_at_i = mass[j] / xi.x;
+#else
+            const real m_j_at_i = m_j;
+#endif
             const real rho_mean = (real)0.5 * (rho_i + rho_j);
             const real pi_ij = artificial_viscosity(
                 vij, xij, r2, h, (real)0.5 * (c_i + materials[material[j]].sound_speed), rho_mean,
@@ -180,10 +188,10 @@ __kernel void pass2_momentum_energy(
                 }
             }
 #endif
-            const real pair = m_j / rho_j; /* sigma_i already carries 1 / rho_i */
+            /* sigma_i already carries 1 / rho_i */
             for (int a = 0; a < SPH_DIM; ++a) {
-                acc[a] += pair * (t_i[a] + t_j[a] / rho_i) + m_j * extra[a];
-                de -= (real)0.5 * m_j * vec_get(vij, a) * extra[a];
+                acc[a] += (m_j * t_i[a] + m_j_at_i * t_j[a] / rho_i) / rho_j + m_pair * extra[a];
+                de -= (real)0.5 * m_pair * vec_get(vij, a) * extra[a];
             }
 #ifdef SPH_XSPH
             xsph -= (m_j / rho_mean * kernel_w(r, h)) * vij;
@@ -192,10 +200,17 @@ __kernel void pass2_momentum_energy(
     }
     END_FOR_EACH_NEIGHBOUR
 #ifdef SPH_AXISYMMETRIC
-    /* the hoop terms of div sigma / rho in (r, z): (sigma_rr - sigma_tt) / r
-     * and sigma_rz / r (sigma_i holds sigma / rho_i) */
-    acc[0] += (sigma_i[0][0] - sigma_i[2][2]) / xi.x;
-    acc[1] += sigma_i[0][1] / xi.x;
+    /* The pair sum above is the symmetric SPH form of (1 / eta) div(r sigma)
+     * with eta = rho r the ring mass per radian and unit area
+     * (sum_j m_j W_ij = eta_i): (sigma_i / r_j + sigma_j / r_i) m_j /
+     * (rho_i rho_j) . grad W. Since div sigma in (r, z) is
+     * (1 / r) div(r sigma) - sigma_tt / r e_r, only the hoop stress is left
+     * as a body force, and it is radial: the axial pair forces cancel
+     * exactly, so the axial momentum of target and projectile is conserved
+     * (the form with sigma_rr / r and sigma_rz / r source terms of Petschek
+     * & Libersky 1993 does not conserve it near the axis). sigma_i holds
+     * sigma / rho_i. */
+    acc[0] -= sigma_i[2][2] / xi.x;
 #endif
     acceleration[i] = vec_make(acc[0], acc[1], acc[2]);
     energy_rate[i] = de;

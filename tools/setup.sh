@@ -11,7 +11,7 @@ BUILD="$ROOT/build"
 MODE=${1:-run}
 PACKAGES="build-essential cmake pkg-config ocl-icd-opencl-dev opencl-c-headers \
 pocl-opencl-icd clinfo libyaml-dev libhdf5-dev libcmocka-dev clang-format \
-python3 python3-numpy python3-h5py python3-matplotlib python3-yaml"
+python3 python3-numpy python3-h5py python3-matplotlib python3-yaml python3-scipy"
 
 case "$MODE" in
 run | test | build) ;;

@@ -3,10 +3,11 @@
 
   tools/stability_study.py [--cases tension rings beam] [--kernels ...]
                            [--stress off on] [--csph off on] [--h 1.2 1.5 2.0]
-                           [--set key=value ...] [--results DIR]
+                           [--epsilon 0.3] [--set key=value ...] [--results DIR]
+                           [--reuse]
 
 Runs every combination of smoothing kernel x artificial stress (off, or on
-with epsilon 0.3) x CSPH (off, on) x h/dx on each stability case and records
+with epsilon 0.3, --epsilon to change it) x CSPH (off, on) x h/dx on each stability case and records
 the health indicators of each run (summary.json): whether it stayed whole,
 the time it first went unhealthy (clumping) and the reason, the largest
 clumped and Swegle fractions, the smallest pair distance, the fraction of
@@ -22,6 +23,7 @@ bending, 2 ms).
 """
 import argparse
 import itertools
+import json
 import os
 import sys
 
@@ -61,11 +63,16 @@ def run_case(args, name):
     rows, grid = [], {}
     for kernel, stress, csph, h in itertools.product(args.kernels, args.stress, args.csph, args.h):
         label = f"{kernel}_as-{stress}_csph-{csph}_h{h:g}"
+        epsilon = args.epsilon if stress == "on" else 0
         sets = base_sets + [f"numerics.kernel={kernel}", f"numerics.csph={csph == 'on'}".lower(),
-                            f"numerics.artificial_stress.epsilon={EPSILON if stress == 'on' else 0}",
+                            f"numerics.artificial_stress.epsilon={epsilon}",
                             f"numerics.h_over_dx={h}"] + args.set
-        s = studylib.run(os.path.join(ROOT, "cases", case), os.path.join(folder, label), sets,
-                         "stability_study")
+        out = os.path.join(folder, label)
+        if args.reuse and os.path.exists(os.path.join(out, "summary.json")):
+            with open(os.path.join(out, "summary.json")) as f:
+                s = json.load(f)
+        else:
+            s = studylib.run(os.path.join(ROOT, "cases", case), out, sets, "stability_study")
         grid[(kernel, stress, csph, h)] = verdict(s)
         rows.append([kernel, stress, csph, h, s["status"], s.get("healthy"),
                      s.get("first_unhealthy_time_s", ""), s.get("unhealthy_reason", ""),
@@ -73,12 +80,21 @@ def run_case(args, name):
                      round(s.get("max_swegle_fraction", float("nan")), 3),
                      round(s.get("min_pair_distance_over_dx", float("nan")), 3),
                      round(s.get("max_neighbour_loss_fraction", float("nan")), 4),
+                     f"{s['end_time_s']:.4g}", probe_final_mm(s),
+                     f"{s['e_av']:.4f}" if s.get("e_av") is not None else "",
                      round(s["wall_time_s"], 1)])
     write_table(folder, name,
                 ["kernel", "artificial stress", "CSPH", "h/dx", "status", "healthy",
                  "first unhealthy (s)", "reason", "max clumped", "max Swegle",
-                 "min pair distance / dx", "neighbour loss", "wall (s)"], rows)
+                 "min pair distance / dx", "neighbour loss", "reached (s)", "probe final (mm)",
+                 "e_av", "wall (s)"], rows)
     plot_map(folder, name, args, grid)
+
+
+def probe_final_mm(s):
+    """The probe's final value in mm (summary key <probe>_final_m), or ''."""
+    keys = [k for k in s if k.endswith("_final_m") and k != "final_length_m"]
+    return f"{1e3 * s[keys[0]]:.2f}" if keys and s[keys[0]] is not None else ""
 
 
 def plot_map(folder, name, args, grid):
@@ -112,9 +128,14 @@ def main():
     ap.add_argument("--stress", nargs="+", choices=["off", "on"], default=["off", "on"])
     ap.add_argument("--csph", nargs="+", choices=["off", "on"], default=["off", "on"])
     ap.add_argument("--h", type=float, nargs="+", default=[1.2, 1.5, 2.0])
+    ap.add_argument("--epsilon", type=float, default=EPSILON,
+                    help=f"artificial-stress epsilon of the 'on' runs (default {EPSILON})")
     ap.add_argument("--set", action="append", default=[], help="extra --set for every run")
     ap.add_argument("--results", default=os.path.join(ROOT, "results"),
                     help="folder for the runs and tables (default results/)")
+    ap.add_argument("--reuse", action="store_true",
+                    help="take a run whose folder already holds a summary.json from there "
+                    "instead of running it again (to resume, or to redraw the tables)")
     args = ap.parse_args()
     for name in args.cases:
         run_case(args, name)

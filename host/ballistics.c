@@ -1,0 +1,209 @@
+/* The rigid projectile on the host side: its constants from the case, its
+ * two launches per step, and what the history reads of it (penetration,
+ * velocity, force, cavity diameters). The physics is in
+ * kernels/projectile.cl. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "launch.h"
+#include "solver.h"
+
+static cl_mem create_real_buffer(struct solver *s, size_t count, char *error, size_t error_size)
+{
+    cl_int err = CL_SUCCESS;
+    cl_mem m = clCreateBuffer(s->dev->context, CL_MEM_READ_WRITE,
+                              s->element_size[ELEM_REAL] * count, NULL, &err);
+    if (err != CL_SUCCESS)
+        snprintf(error, error_size, "clCreateBuffer (projectile, %zu reals) failed: %d", count,
+                 (int)err);
+    return err == CL_SUCCESS ? m : NULL;
+}
+
+static void write_state(struct solver *s, const double *values)
+{
+    float narrow[SPH_PROJ_SLOTS];
+    for (int k = 0; k < SPH_PROJ_SLOTS; ++k)
+        narrow[k] = (float)values[k];
+    CL_CHECK(clEnqueueWriteBuffer(
+        s->dev->queue, s->projectile.state, CL_TRUE, 0, s->element_size[ELEM_REAL] * SPH_PROJ_SLOTS,
+        s->double_precision ? (const void *)values : (const void *)narrow, 0, NULL, NULL));
+}
+
+static void read_reals(struct solver *s, cl_mem m, size_t count, double *out)
+{
+    if (s->double_precision) {
+        CL_CHECK(clEnqueueReadBuffer(s->dev->queue, m, CL_TRUE, 0, count * sizeof(double), out, 0,
+                                     NULL, NULL));
+        return;
+    }
+    float *tmp = malloc(count * sizeof(float));
+    CL_CHECK(clEnqueueReadBuffer(s->dev->queue, m, CL_TRUE, 0, count * sizeof(float), tmp, 0, NULL,
+                                 NULL));
+    for (size_t k = 0; k < count; ++k)
+        out[k] = tmp[k];
+    free(tmp);
+}
+
+/* Whole-model factors: a 2-D particle is per metre of thickness or (axi)
+ * per radian; each symmetry plane halves the model, except the axis of an
+ * axisymmetric case, which the 2 pi already covers. Components normal to a
+ * plane cancel against the mirror image. */
+static void model_factors(struct solver *s, const struct sph_case *c, struct projectile *p)
+{
+    const int axisymmetric = c->dimension == 2 && c->plane == SPH_PLANE_AXISYMMETRIC;
+    double multiplicity = 1;
+    for (int a = 0; a < 3; ++a)
+        p->mask[a] = a < c->dimension ? 1.0 : 0.0;
+    for (int k = 0; k < c->symmetry_count; ++k) {
+        p->mask[c->symmetry[k].axis] = 0;
+        if (!(axisymmetric && c->symmetry[k].axis == 0))
+            multiplicity *= 2;
+    }
+    p->scale = s->thickness_scale * multiplicity;
+    p->momentum_scale = multiplicity; /* the reduction already applies the thickness */
+}
+
+int solver_projectile_create(struct solver *s, const struct sph_case *c,
+                             const struct sph_scene *scene, char *error, size_t error_size)
+{
+    struct projectile *p = &s->projectile;
+    memset(p, 0, sizeof *p);
+    const struct case_projectile *cp = &c->projectile;
+    if (!cp->enabled)
+        return 0;
+    p->enabled = 1;
+    p->radius = 0.5 * cp->diameter;
+    p->mass = cp->density * M_PI * pow(cp->diameter, 3) / 6.0;
+    const double speed =
+        sqrt(cp->velocity[0] * cp->velocity[0] + cp->velocity[1] * cp->velocity[1] +
+             cp->velocity[2] * cp->velocity[2]);
+    p->stiffness_speed = solver_max_sound_speed(c) + speed;
+    for (int a = 0; a < 3; ++a) {
+        p->axis[a] = cp->velocity[a] / speed;
+        p->origin[a] = cp->centre[a];
+    }
+    model_factors(s, c, p);
+    p->surface = HUGE_VAL;
+    for (int i = 0; i < scene->count; ++i) {
+        const int level = (scene->flags[i] >> SPH_LEVEL_SHIFT) & SPH_LEVEL_MASK;
+        double along = 0;
+        for (int a = 0; a < 3; ++a)
+            along += scene->position[3 * i + a] * p->axis[a];
+        p->surface = fmin(p->surface, along - 0.5 * c->numerics.dx * (1 << level));
+    }
+    p->probe_spacing = cp->cavity_probe_spacing;
+    p->probe_count = cp->cavity_probe_count;
+    double along = 0;
+    for (int a = 0; a < 3; ++a)
+        along += cp->centre[a] * p->axis[a];
+    if (along + p->radius > p->surface + 1e-9 * p->radius) {
+        snprintf(error, error_size,
+                 "%s: projectile.centre: the sphere overlaps the target at t = 0 (its nose is "
+                 "%.4g m past the target's face along the impact axis); move it back",
+                 c->path, along + p->radius - p->surface);
+        return 1;
+    }
+    p->state = create_real_buffer(s, SPH_PROJ_SLOTS, error, error_size);
+    p->contact_partials =
+        p->state
+            ? create_real_buffer(s, (size_t)SPH_CONTACT_SLOTS * s->reduce_groups, error, error_size)
+            : NULL;
+    if (!p->contact_partials)
+        return 1;
+    double state[SPH_PROJ_SLOTS] = {0};
+    for (int a = 0; a < 3; ++a) {
+        state[SPH_PROJ_X + a] = cp->centre[a];
+        state[SPH_PROJ_V + a] = cp->velocity[a];
+    }
+    write_state(s, state);
+    s->k.projectile_contact = solver_make_kernel(s, "projectile_contact");
+    s->k.projectile_advance = solver_make_kernel(s, "projectile_advance");
+    s->k.projectile_cavity = solver_make_kernel(s, "projectile_cavity");
+    return 0;
+}
+
+void solver_projectile_contact(struct solver *s)
+{
+    struct projectile *p = &s->projectile;
+    struct real_arg a_radius, a_speed, a_dx;
+    SET_ARGS(s->k.projectile_contact, MEM(s->field[FIELD_POS]), MEM(s->field[FIELD_MASS]),
+             MEM(s->field[FIELD_FLAGS]), MEM(s->field[FIELD_ACCELERATION]), MEM(p->state),
+             real_value(s, &a_radius, p->radius), real_value(s, &a_speed, p->stiffness_speed),
+             real_value(s, &a_dx, s->dx), MEM(p->contact_partials), INT(s->n));
+    solver_launch(s, s->k.projectile_contact, (size_t)s->reduce_groups * REDUCE_GROUP_SIZE,
+                  REDUCE_GROUP_SIZE);
+}
+
+void solver_projectile_advance(struct solver *s, double dt, double dt_prev)
+{
+    struct projectile *p = &s->projectile;
+    struct real4_arg a_mask;
+    struct real_arg a_scale, a_mass, a_dt, a_prev;
+    SET_ARGS(s->k.projectile_advance, MEM(p->state), MEM(p->contact_partials),
+             INT(s->reduce_groups), real4_value(s, &a_mask, p->mask),
+             real_value(s, &a_scale, p->scale), real_value(s, &a_mass, p->mass),
+             real_value(s, &a_dt, dt), real_value(s, &a_prev, dt_prev));
+    solver_launch(s, s->k.projectile_advance, 1, 1);
+}
+
+static void read_cavity(struct solver *s, struct projectile_reading *out)
+{
+    struct projectile *p = &s->projectile;
+    struct real4_arg a_origin, a_axis;
+    struct real_arg a_surface, a_spacing, a_dx;
+    SET_ARGS(s->k.projectile_cavity, MEM(s->field[FIELD_POS]), MEM(s->field[FIELD_FLAGS]),
+             real4_value(s, &a_origin, p->origin), real4_value(s, &a_axis, p->axis),
+             real_value(s, &a_surface, p->surface), real_value(s, &a_spacing, p->probe_spacing),
+             INT(p->probe_count), real_value(s, &a_dx, s->dx), MEM(s->partials), INT(s->n));
+    solver_launch(s, s->k.projectile_cavity, (size_t)s->reduce_groups * REDUCE_GROUP_SIZE,
+                  REDUCE_GROUP_SIZE);
+    const size_t width = 2 * SPH_MAX_CAVITY_PROBES;
+    double *v = malloc(sizeof(double) * width * (size_t)s->reduce_groups);
+    read_reals(s, s->partials, width * (size_t)s->reduce_groups, v);
+    for (int k = 0; k < SPH_MAX_CAVITY_PROBES; ++k) {
+        double empty = HUGE_VAL, damaged = 0;
+        for (int g = 0; g < s->reduce_groups; ++g) {
+            empty = fmin(empty, v[g * width + 2 * k]);
+            damaged = fmax(damaged, v[g * width + 2 * k + 1]);
+        }
+        out->cavity_d1[k] = isfinite(empty) ? 2 * empty : 0.0;
+        out->cavity_d2[k] = 2 * damaged;
+    }
+    free(v);
+}
+
+void solver_projectile_read(struct solver *s, struct projectile_reading *out)
+{
+    struct projectile *p = &s->projectile;
+    memset(out, 0, sizeof *out);
+    double state[SPH_PROJ_SLOTS];
+    read_reals(s, p->state, SPH_PROJ_SLOTS, state);
+    double along = 0, speed = 0;
+    for (int a = 0; a < 3; ++a) {
+        out->position[a] = state[SPH_PROJ_X + a];
+        out->velocity[a] = state[SPH_PROJ_V + a];
+        out->force[a] = state[SPH_PROJ_F + a];
+        along += out->position[a] * p->axis[a];
+        speed += out->velocity[a] * p->axis[a];
+    }
+    out->contact_energy = state[SPH_PROJ_CONTACT_ENERGY];
+    out->contacts = (int)state[SPH_PROJ_CONTACTS];
+    out->penetration = along + p->radius - p->surface;
+    out->speed_along_axis = speed;
+    read_cavity(s, out);
+}
+
+void solver_projectile_release(struct solver *s)
+{
+    struct projectile *p = &s->projectile;
+    cl_kernel *k[] = {&s->k.projectile_contact, &s->k.projectile_advance, &s->k.projectile_cavity};
+    for (size_t i = 0; i < sizeof k / sizeof k[0]; ++i)
+        if (*k[i])
+            clReleaseKernel(*k[i]), *k[i] = NULL;
+    if (p->state)
+        clReleaseMemObject(p->state);
+    if (p->contact_partials)
+        clReleaseMemObject(p->contact_partials);
+    memset(p, 0, sizeof *p);
+}

@@ -1,0 +1,159 @@
+/*
+ * The rigid projectile: a sphere with one position, velocity and mass,
+ * pushed by the target particles it touches (issue: micro-particle
+ * penetration). The target sees it as a moving boundary through a stiff
+ * penalty on the analytic surface, the same law as the rigid walls
+ * (integrate.cl): a particle whose centre comes closer than R + dx_i / 2 to
+ * the sphere's centre (so the material's face lies on the sphere) is pushed
+ * out along the radius with f = m k^2 (R + dx_i/2 - d) / dx_i^2, and the
+ * sphere takes the opposite force, so the pair conserves momentum exactly
+ * and the spring stores (and gives back) its energy. k is the target's
+ * longitudinal wave speed plus the impact speed: the spring's frequency
+ * k / dx_i stays below the step's stability limit (dt = cfl h / (c + |v|))
+ * while the overlap at impact stays under v dx / k < dx / 2.
+ * Why a penalty and not particles moved rigidly: docs/validation_penetration.md.
+ *
+ * Per step (host/step.c): projectile_contact after pass 2 adds the contact
+ * acceleration and writes per-group force partials; projectile_advance sums
+ * them and moves the sphere with the particles' leap-frog. At history rows
+ * projectile_cavity measures the cavity around the track.
+ */
+
+/* reads pos, mass, flags, state; updates acceleration; writes contact partials. */
+__kernel __attribute__((reqd_work_group_size(REDUCE_WG, 1, 1))) void
+projectile_contact(__global const vec *restrict pos, __global const real *restrict mass,
+                   __global const int *restrict flags, __global vec *restrict acceleration,
+                   __global const real *restrict state, const real radius,
+                   const real stiffness_speed, const real dx, __global real *restrict partials,
+                   const int n)
+{
+    __local real acc[REDUCE_WG][SPH_CONTACT_SLOTS];
+    const int lid = get_local_id(0);
+    real mine[SPH_CONTACT_SLOTS];
+    for (int k = 0; k < SPH_CONTACT_SLOTS; ++k)
+        mine[k] = 0;
+    const vec centre =
+        vec_make(state[SPH_PROJ_X], state[SPH_PROJ_X + 1], state[SPH_PROJ_X + 2]);
+    const real k2 = stiffness_speed * stiffness_speed;
+    for (int i = get_global_id(0); i < n; i += get_global_size(0)) {
+        const int flag = flags[i];
+        if (flag & (SPH_FLAG_GHOST | SPH_FLAG_FIXED))
+            continue;
+        const real dx_i = dx * spacing_scale(flag);
+        const vec d = pos[i] - centre;
+        const real distance = length(d);
+        const real depth = radius + (real)0.5 * dx_i - distance;
+        if (depth <= 0 || distance <= 0)
+            continue;
+        const real a_n = k2 * depth / (dx_i * dx_i);
+        const vec a = (a_n / distance) * d;
+        acceleration[i] += a;
+        const real m = mass[i];
+        mine[SPH_CONTACT_FX] += m * a.x;
+        mine[SPH_CONTACT_FX + 1] += m * a.y;
+#if SPH_DIM == 3
+        mine[SPH_CONTACT_FX + 2] += m * a.z;
+#endif
+        mine[SPH_CONTACT_ENERGY] += (real)0.5 * m * a_n * depth;
+        mine[SPH_CONTACT_COUNT] += 1;
+    }
+    for (int k = 0; k < SPH_CONTACT_SLOTS; ++k)
+        acc[lid][k] = mine[k];
+    barrier(CLK_LOCAL_MEM_FENCE);
+    for (int stride = REDUCE_WG / 2; stride > 0; stride >>= 1) {
+        if (lid < stride)
+            for (int k = 0; k < SPH_CONTACT_SLOTS; ++k)
+                acc[lid][k] += acc[lid + stride][k];
+        barrier(CLK_LOCAL_MEM_FENCE);
+    }
+    if (lid == 0)
+        for (int k = 0; k < SPH_CONTACT_SLOTS; ++k)
+            partials[get_group_id(0) * SPH_CONTACT_SLOTS + k] = acc[0][k];
+}
+
+/* One work-item: the force on the sphere is minus the sum of the contact
+ * forces on the particles, times `scale` (2 pi for an axisymmetric ring
+ * mass per radian, 2 per symmetry plane, the thickness in plane strain),
+ * with the components normal to symmetry planes zeroed (`mask`: they cancel
+ * against the mirror images). Then the leap-frog of the particles:
+ * v^(n+1/2) = v^(n-1/2) + (dt_prev + dt)/2 F/M, x^(n+1) = x^n + dt v^(n+1/2).
+ * reads partials; updates state. */
+__kernel void projectile_advance(__global real *restrict state,
+                                 __global const real *restrict partials, const int groups,
+                                 const real4 mask, const real scale, const real mass,
+                                 const real dt, const real dt_prev)
+{
+    if (get_global_id(0) != 0)
+        return;
+    real sum[SPH_CONTACT_SLOTS];
+    for (int k = 0; k < SPH_CONTACT_SLOTS; ++k)
+        sum[k] = 0;
+    for (int g = 0; g < groups; ++g)
+        for (int k = 0; k < SPH_CONTACT_SLOTS; ++k)
+            sum[k] += partials[g * SPH_CONTACT_SLOTS + k];
+    const real m[3] = {mask.x, mask.y, mask.z};
+    for (int a = 0; a < 3; ++a) {
+        const real force = -scale * m[a] * sum[SPH_CONTACT_FX + a];
+        const real v = state[SPH_PROJ_V + a] + (real)0.5 * (dt_prev + dt) * force / mass;
+        state[SPH_PROJ_F + a] = force;
+        state[SPH_PROJ_V + a] = v;
+        state[SPH_PROJ_X + a] += dt * v;
+    }
+    state[SPH_PROJ_CONTACT_ENERGY] = scale * sum[SPH_CONTACT_ENERGY];
+    state[SPH_PROJ_CONTACTS] = sum[SPH_CONTACT_COUNT];
+}
+
+/* Cavity probes: for probe k at depth z_k below the target's surface along
+ * the impact axis `axis` (a unit vector; the track is the line through
+ * `origin` along it), the particles whose depth lies within half their
+ * spacing of z_k form one lattice layer; the smallest distance of any of
+ * them from the track, less half a spacing, is the empty cavity's radius
+ * (D1 / 2; thesis Fig. 4.18) and the largest distance of a damaged one,
+ * plus half a spacing, the damaged zone's (D2 / 2).
+ * Slots: 2k the minimum distance - dx_i/2 (min), 2k + 1 the damaged
+ * radius (max, 0 when none). reads pos, flags; writes partials. */
+__kernel __attribute__((reqd_work_group_size(REDUCE_WG, 1, 1))) void
+projectile_cavity(__global const vec *restrict pos, __global const int *restrict flags,
+                  const real4 origin, const real4 axis, const real surface,
+                  const real probe_spacing, const int probe_count, const real dx,
+                  __global real *restrict partials, const int n)
+{
+    __local real acc[REDUCE_WG][2 * SPH_MAX_CAVITY_PROBES];
+    const int lid = get_local_id(0);
+    real mine[2 * SPH_MAX_CAVITY_PROBES];
+    for (int k = 0; k < SPH_MAX_CAVITY_PROBES; ++k) {
+        mine[2 * k] = INFINITY;
+        mine[2 * k + 1] = 0;
+    }
+    const vec o = vec_make(origin.x, origin.y, origin.z);
+    const vec u = vec_make(axis.x, axis.y, axis.z);
+    for (int i = get_global_id(0); i < n; i += get_global_size(0)) {
+        const int flag = flags[i];
+        if (flag & SPH_FLAG_GHOST)
+            continue;
+        const real half_dx = (real)0.5 * dx * spacing_scale(flag);
+        const vec x = pos[i];
+        const real depth = dot(x, u) - surface;
+        const int k = (int)round(depth / probe_spacing) - 1;
+        if (k < 0 || k >= probe_count || fabs(depth - (k + 1) * probe_spacing) > half_dx)
+            continue;
+        const vec along = dot(x - o, u) * u;
+        const real r = length(x - o - along);
+        mine[2 * k] = fmin(mine[2 * k], fmax(r - half_dx, (real)0));
+        if (flag & SPH_FLAG_DAMAGED)
+            mine[2 * k + 1] = fmax(mine[2 * k + 1], r + half_dx);
+    }
+    for (int k = 0; k < 2 * SPH_MAX_CAVITY_PROBES; ++k)
+        acc[lid][k] = mine[k];
+    barrier(CLK_LOCAL_MEM_FENCE);
+    for (int stride = REDUCE_WG / 2; stride > 0; stride >>= 1) {
+        if (lid < stride)
+            for (int k = 0; k < 2 * SPH_MAX_CAVITY_PROBES; ++k)
+                acc[lid][k] = (k & 1) ? fmax(acc[lid][k], acc[lid + stride][k])
+                                      : fmin(acc[lid][k], acc[lid + stride][k]);
+        barrier(CLK_LOCAL_MEM_FENCE);
+    }
+    if (lid == 0)
+        for (int k = 0; k < 2 * SPH_MAX_CAVITY_PROBES; ++k)
+            partials[get_group_id(0) * 2 * SPH_MAX_CAVITY_PROBES + k] = acc[0][k];
+}
