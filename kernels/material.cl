@@ -150,11 +150,10 @@ __kernel void material_update(
     __global real *restrict plastic_strain, __global real *restrict temperature,
     __global const fullt *restrict velocity_gradient, __global const real *restrict density_rate,
     __global const real *restrict energy_rate, __global const int *restrict material,
-    __global int *restrict flags,
-    __global const vec *restrict pos, __global const vec *restrict vel_half,
-    __constant const struct sph_material *materials, __constant const struct sph_run_params *run,
-    const real dt, __global real *restrict pressure, __global symt *restrict artificial_stress,
-    const int n)
+    __global int *restrict flags, __global const vec *restrict pos,
+    __global const vec *restrict vel_half, __constant const struct sph_material *materials,
+    __constant const struct sph_run_params *run, const real dt, __global real *restrict pressure,
+    __global symt *restrict artificial_stress, const int n)
 {
     const int i = get_global_id(0);
     if (i >= n)

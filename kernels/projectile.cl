@@ -32,8 +32,7 @@ projectile_contact(__global const vec *restrict pos, __global const real *restri
     real mine[SPH_CONTACT_SLOTS];
     for (int k = 0; k < SPH_CONTACT_SLOTS; ++k)
         mine[k] = 0;
-    const vec centre =
-        vec_make(state[SPH_PROJ_X], state[SPH_PROJ_X + 1], state[SPH_PROJ_X + 2]);
+    const vec centre = vec_make(state[SPH_PROJ_X], state[SPH_PROJ_X + 1], state[SPH_PROJ_X + 2]);
     const real k2 = stiffness_speed * stiffness_speed;
     for (int i = get_global_id(0); i < n; i += get_global_size(0)) {
         const int flag = flags[i];
@@ -80,8 +79,8 @@ projectile_contact(__global const vec *restrict pos, __global const real *restri
  * reads partials; updates state. */
 __kernel void projectile_advance(__global real *restrict state,
                                  __global const real *restrict partials, const int groups,
-                                 const real4 mask, const real scale, const real mass,
-                                 const real dt, const real dt_prev)
+                                 const real4 mask, const real scale, const real mass, const real dt,
+                                 const real dt_prev)
 {
     if (get_global_id(0) != 0)
         return;
