@@ -16,11 +16,11 @@
 
 /* Images of one position: every non-empty subset of the planes it is close
  * to. Writes their masks, returns how many. */
-static int images(const struct ghosts *g, const double *x, int dim, int masks[7])
+static int images(const struct ghosts *g, const double *x, double scale, int dim, int masks[7])
 {
     int near = 0;
     for (int a = 0; a < dim; ++a)
-        if (g->reflected[a] && fabs(x[a] - g->plane[a]) < g->width)
+        if (g->reflected[a] && fabs(x[a] - g->plane[a]) < g->width * scale)
             near |= 1 << a;
     int count = 0;
     for (int m = 1; m < 8; ++m)
@@ -44,9 +44,17 @@ void solver_ghosts_setup(struct solver *s, const struct sph_case *c, const struc
         return;
     /* the support plus the distance particles may move between sorts */
     g->width = s->run.support * (1.0 + s->skin);
+    /* graded lattices: a particle's pairs reach 1.5 of its own supports
+     * (the mean smoothing length with a coarser neighbour); every pair
+     * across a plane then has both images, and stays equal and opposite */
+    g->scale = malloc(sizeof(double) * (size_t)scene->count + 1);
+    for (int p = 0; p < scene->count; ++p) {
+        const int level = (scene->flags[p] >> SPH_LEVEL_SHIFT) & SPH_LEVEL_MASK;
+        g->scale[p] = s->graded ? 1.5 * (1 << level) : 1.0;
+    }
     int initial = 0, masks[7];
     for (int p = 0; p < scene->count; ++p)
-        initial += images(g, &scene->position[3 * p], c->dimension, masks);
+        initial += images(g, &scene->position[3 * p], g->scale[p], c->dimension, masks);
     /* room for the layer near the planes to thicken as the body deforms */
     g->capacity = 2 * initial + 256;
     s->capacity = scene->count + g->capacity;
@@ -82,6 +90,8 @@ int solver_ghosts_create(struct solver *s, char *error, size_t error_size)
 void solver_ghosts_release(struct solver *s)
 {
     struct ghosts *g = &s->ghosts;
+    free(g->scale);
+    g->scale = NULL;
     cl_mem *buffers[] = {&g->source_id, &g->mask, &g->index_of_id};
     for (size_t k = 0; k < sizeof buffers / sizeof buffers[0]; ++k)
         if (*buffers[k])
@@ -137,6 +147,15 @@ static void refresh_field(struct solver *s, enum field f)
             set_arg(k, a++, sizeof plane, &plane);
         }
         set_arg(k, a++, sizeof is_position, &is_position);
+    }
+    if (info->kind == ELEM_INT) {
+        const int flags = info->mirror == MIRROR_FLAGS;
+        const cl_int keep = flags ? (SPH_LEVEL_MASK << SPH_LEVEL_SHIFT) |
+                                        (SPH_REACH_MASK << SPH_REACH_SHIFT) | SPH_FLAG_DAMAGED
+                                  : ~0;
+        const cl_int set = flags ? SPH_FLAG_GHOST : 0;
+        set_arg(k, a++, sizeof keep, &keep);
+        set_arg(k, a++, sizeof set, &set);
     }
     solver_launch(s, k, (size_t)g->count, 0);
 }
@@ -203,7 +222,7 @@ int solver_ghosts_rebuild(struct solver *s, char *error, size_t error_size)
     int *mask = malloc(sizeof(int) * (size_t)g->capacity + 1);
     int count = 0, overflow = 0, masks[7];
     for (int p = 0; p < s->n_real; ++p) {
-        const int m = images(g, &x[3 * p], s->dim, masks);
+        const int m = images(g, &x[3 * p], g->scale[p], s->dim, masks);
         for (int k = 0; k < m; ++k) {
             if (count < g->capacity) {
                 source[count] = p; /* after the compaction the slot is the id */

@@ -1,5 +1,6 @@
 /* Lattice fill of the case's bodies, group flags and the load. */
 #include "scene.h"
+#include "solver.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -78,6 +79,57 @@ static int allocate(struct sph_scene *s, int n)
     return s->position && s->velocity && s->mass && s->density && s->material && s->flags;
 }
 
+/* One particle of body `body` at x: mass rho0 (2^level dx)^d (axisymmetric:
+ * times r, the ring's mass per radian). */
+struct fill_context {
+    const struct sph_case *c;
+    struct sph_scene *s;
+    int *body_of;
+    int body, n;
+};
+
+static void put_particle(struct fill_context *f, const double x[3], int level, int reach)
+{
+    const struct sph_case *c = f->c;
+    const struct case_body *body = &c->bodies[f->body];
+    const struct case_material *m = &c->materials[body->material];
+    const int n = f->n, dim = c->dimension;
+    const int axisymmetric = dim == 2 && c->plane == SPH_PLANE_AXISYMMETRIC;
+    const double spacing = c->numerics.dx * (1 << level);
+    for (int a = 0; a < 3; ++a) {
+        f->s->position[3 * n + a] = x[a];
+        f->s->velocity[3 * n + a] = body->fixed ? 0.0 : body->velocity[a];
+    }
+    f->s->density[n] = m->density;
+    f->s->mass[n] = m->density * pow(spacing, dim) * (axisymmetric ? x[0] : 1.0);
+    f->s->material[n] = body->material;
+    f->s->flags[n] = (body->fixed ? SPH_FLAG_FIXED : 0) | (level << SPH_LEVEL_SHIFT) |
+                     (reach << SPH_REACH_SHIFT);
+    f->body_of[n] = f->body;
+    ++f->n;
+}
+
+static int emit_particle(struct sph_particle_sink *sink, const double x[3], int level, int reach)
+{
+    struct fill_context *f = sink->context;
+    if (in_shape(&f->c->bodies[f->body], x, f->c->dimension)) {
+        if (f->s)
+            put_particle(f, x, level, reach);
+        else
+            ++f->n;
+    }
+    return 0;
+}
+
+/* Particles of a graded body (host/grading.c); with s NULL only counts. */
+static int fill_graded(const struct sph_case *c, int b, struct sph_scene *s, int *body_of, int n)
+{
+    struct fill_context f = {.c = c, .s = s, .body_of = body_of, .body = b, .n = n};
+    struct sph_particle_sink sink = {.skin = SPH_GRID_SKIN, .emit = emit_particle, .context = &f};
+    grading_fill(c, &c->bodies[b], &sink);
+    return f.n;
+}
+
 static int fill_bodies(const struct sph_case *c, struct sph_scene *s, int *body_of)
 {
     const int dim = c->dimension;
@@ -87,6 +139,10 @@ static int fill_bodies(const struct sph_case *c, struct sph_scene *s, int *body_
     for (int b = 0; b < c->body_count; ++b) {
         const struct case_body *body = &c->bodies[b];
         const struct case_material *m = &c->materials[body->material];
+        if (body->grading.enabled) {
+            n = fill_graded(c, b, s, body_of, n);
+            continue;
+        }
         int counts[3];
         box_particles(&body->box, dim, dx, counts);
         double start[3];
@@ -109,7 +165,7 @@ static int fill_bodies(const struct sph_case *c, struct sph_scene *s, int *body_
                     /* axisymmetric: the ring's mass per radian, rho0 r dx^2 */
                     s->mass[n] = m->density * pow(dx, dim) * (axisymmetric ? x[0] : 1.0);
                     s->material[n] = body->material;
-                    s->flags[n] = body->fixed ? SPH_FLAG_FIXED : 0;
+                    s->flags[n] = (body->fixed ? SPH_FLAG_FIXED : 0) | (1 << SPH_REACH_SHIFT);
                     body_of[n] = b;
                     ++n;
                 }
@@ -174,7 +230,9 @@ int scene_build(const struct sph_case *c, struct sph_scene *s, char *error, size
     long total = 0;
     for (int b = 0; b < c->body_count; ++b) {
         int counts[3];
-        total += box_particles(&c->bodies[b].box, c->dimension, c->numerics.dx, counts);
+        total += c->bodies[b].grading.enabled
+                     ? fill_graded(c, b, NULL, NULL, 0)
+                     : box_particles(&c->bodies[b].box, c->dimension, c->numerics.dx, counts);
     }
     if (total <= 0 || total > 200000000L) {
         snprintf(error, error_size,

@@ -21,6 +21,19 @@ struct sph_scene {
     double domain_min[3], domain_max[3]; /* initial bounding box, m */
 };
 
+/* Where a lattice fill puts its particles (host/grading.c): emit returns
+ * non-zero to stop. */
+struct sph_particle_sink {
+    double skin; /* neighbour-grid margin over the support (host/step.c) */
+    int (*emit)(struct sph_particle_sink *sink, const double x[3], int level, int reach);
+    void *context;
+};
+
+/* Fills a graded body (bodies[].grading) level by level; returns the
+ * particles emitted, or -1 when emit stopped it. */
+int grading_fill(const struct sph_case *c, const struct case_body *b,
+                 struct sph_particle_sink *out);
+
 /* Fills `scene` from `c`. Returns 0, or non-zero with one sentence in
  * `error` (no particles, overlapping loads, empty group). */
 int scene_build(const struct sph_case *c, struct sph_scene *scene, char *error, size_t error_size);

@@ -8,6 +8,11 @@
 #include "scene.h"
 #include "sph_case.h"
 
+/* The neighbour grid's margin over the support: cells are support (1 +
+ * skin) wide and the grid is re-sorted once a particle has moved skin / 2
+ * supports. */
+#define SPH_GRID_SKIN 0.2
+
 /* Work-group size of the reduction kernels: REDUCE_WG in kernels/common.cl. */
 #define REDUCE_GROUP_SIZE 64
 
@@ -58,7 +63,7 @@ enum field {
 };
 
 /* How a ghost's copy of a field relates to its source's (kernels/ghost.cl). */
-enum mirror_kind { MIRROR_NONE, MIRROR_COPY, MIRROR_REFLECT, MIRROR_POSITION };
+enum mirror_kind { MIRROR_NONE, MIRROR_COPY, MIRROR_REFLECT, MIRROR_POSITION, MIRROR_FLAGS };
 
 struct field_info {
     const char *name;
@@ -80,7 +85,8 @@ struct ghosts {
     int plane_count;
     int reflected[3]; /* 1 where a plane is normal to that axis */
     double plane[3];  /* its coordinate, m */
-    double width;     /* particles this close to a plane get images, m */
+    double width;     /* particles this close to a plane get images, m ... */
+    double *scale;    /* ... times this factor per real particle (graded lattices) */
     int count;        /* ghosts in use */
     int capacity;     /* slots for ghosts in every field buffer */
     cl_mem source_id, mask, index_of_id;
@@ -94,6 +100,7 @@ struct kernels {
     cl_kernel tl_correction, tl_deformation, tl_first_piola, tl_momentum;
     cl_kernel health;
     cl_kernel projectile_contact, projectile_advance, projectile_cavity;
+    cl_kernel neighbour_reach; /* graded lattices only */
 };
 
 /* The rigid projectile (host/ballistics.c, kernels/projectile.cl). */
@@ -142,6 +149,7 @@ struct solver {
     int capacity; /* slots in every field buffer */
     struct ghosts ghosts;
     int total_lagrangian; /* numerics.formulation; the grid is then sorted once */
+    int graded;           /* some body has a graded lattice (SPH_GRADED) */
     double dx;            /* lattice spacing, m */
     size_t element_size[ELEM_COUNT];
     cl_mem field[FIELD_COUNT];

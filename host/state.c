@@ -19,7 +19,7 @@ const struct field_info field_table[FIELD_COUNT] = {
     [FIELD_PLASTIC_STRAIN] = {"plastic_strain", ELEM_REAL, MIRROR_COPY},
     [FIELD_TEMPERATURE] = {"temperature", ELEM_REAL, MIRROR_COPY},
     [FIELD_MASS] = {"mass", ELEM_REAL, MIRROR_COPY},
-    [FIELD_FLAGS] = {"flags", ELEM_INT, MIRROR_NONE},
+    [FIELD_FLAGS] = {"flags", ELEM_INT, MIRROR_FLAGS},
     [FIELD_MATERIAL] = {"material", ELEM_INT, MIRROR_COPY},
     [FIELD_ID] = {"id", ELEM_INT, MIRROR_NONE},
     [FIELD_POS_AT_SORT] = {"position_at_sort", ELEM_VEC, MIRROR_NONE},
@@ -45,8 +45,11 @@ void solver_build_options(const struct sph_case *c, char *options, size_t size)
     /* -w: PoCL's compiler prints ABI notes (-Wpsabi) about float8/float16
      * arguments on every first build; the sources are kept free of real
      * warnings with clang -x cl -fsyntax-only -Wall (docs/ARCHITECTURE.md) */
-    snprintf(options, size, "-cl-std=CL1.2 -w -DSPH_DIM=%d -DSPH_KERNEL=%d%s%s%s%s%s%s%s",
-             c->dimension, (int)num->kernel,
+    int graded = 0;
+    for (int b = 0; b < c->body_count; ++b)
+        graded |= c->bodies[b].grading.enabled;
+    snprintf(options, size, "-cl-std=CL1.2 -w -DSPH_DIM=%d -DSPH_KERNEL=%d%s%s%s%s%s%s%s%s",
+             c->dimension, (int)num->kernel, graded ? " -DSPH_GRADED" : "",
              c->dimension == 2 && c->plane == SPH_PLANE_STRESS         ? " -DSPH_PLANE_STRESS"
              : c->dimension == 2 && c->plane == SPH_PLANE_AXISYMMETRIC ? " -DSPH_AXISYMMETRIC"
                                                                        : "",
@@ -251,20 +254,20 @@ static void upload_walls(struct solver *s, const struct sph_case *c)
 
 static void upload_run_params(struct solver *s)
 {
-    const double v[11] = {
+    const double v[12] = {
         s->run.h,          s->run.support,        s->run.av_alpha,     s->run.av_beta,
         s->run.as_epsilon, s->run.as_inv_w_dx,    s->run.xsph_epsilon, s->run.damping,
-        s->run.thickness,  s->run.velocity_limit, s->run.hourglass};
+        s->run.thickness,  s->run.velocity_limit, s->run.hourglass,    s->run.axis_radius};
     if (!s->double_precision) {
         CL_CHECK(clEnqueueWriteBuffer(s->dev->queue, s->run_params, CL_TRUE, 0, sizeof s->run,
                                       &s->run, 0, NULL, NULL));
         return;
     }
     struct {
-        cl_double v[11];
+        cl_double v[12];
         cl_int as_exponent, material_count;
     } wide;
-    for (int k = 0; k < 11; ++k)
+    for (int k = 0; k < 12; ++k)
         wide.v[k] = v[k];
     wide.as_exponent = s->run.as_exponent;
     wide.material_count = s->run.material_count;

@@ -82,6 +82,7 @@ static void create_kernels(struct solver *s)
     k->tl_first_piola = make_kernel(s, "tl_first_piola");
     k->tl_momentum = make_kernel(s, "tl_momentum");
     k->health = make_kernel(s, "health_indicators");
+    k->neighbour_reach = s->graded ? make_kernel(s, "grid_neighbour_reach") : NULL;
 }
 
 static void release_kernels(struct solver *s)
@@ -91,7 +92,7 @@ static void release_kernels(struct solver *s)
         &s->k.mark_sorted,     &s->k.bounds,        &s->k.pass1,          &s->k.material,
         &s->k.pass2,           &s->k.kick,          &s->k.drift,          &s->k.reduce,
         &s->k.neighbour_count, &s->k.tl_correction, &s->k.tl_deformation, &s->k.tl_first_piola,
-        &s->k.tl_momentum,     &s->k.health};
+        &s->k.tl_momentum,     &s->k.health,        &s->k.neighbour_reach};
     for (size_t i = 0; i < sizeof all / sizeof all[0]; ++i)
         if (*all[i])
             clReleaseKernel(*all[i]);
@@ -125,6 +126,7 @@ static void fill_run_params(struct solver *s, const struct sph_case *c)
      * within a few steps by a runaway instability. */
     s->run.velocity_limit = (real)(10.0 * c_max + 2.0 * v0);
     s->run.hourglass = (real)num->hourglass;
+    s->run.axis_radius = (real)(0.25 * num->dx);
     s->run.as_exponent = num->as_exponent;
     s->run.material_count = c->material_count;
 }
@@ -138,9 +140,11 @@ int solver_create(struct solver *s, struct sph_device *dev, const struct sph_cas
     s->n = scene->count;
     s->double_precision = c->numerics.double_precision;
     s->total_lagrangian = c->numerics.total_lagrangian;
+    for (int b = 0; b < c->body_count; ++b)
+        s->graded |= c->bodies[b].grading.enabled;
     s->dx = c->numerics.dx;
     s->reduce_groups = 64;
-    s->skin = 0.2;
+    s->skin = SPH_GRID_SKIN;
     s->thickness_scale = c->dimension != 2                    ? 1.0
                          : c->plane == SPH_PLANE_AXISYMMETRIC ? 2.0 * M_PI /* per radian */
                                                               : c->thickness;
@@ -302,6 +306,10 @@ static void reorder_fields(struct solver *s)
     launch(s, s->k.mark_sorted, (size_t)s->n, 0);
 }
 
+/* The grid arguments every neighbour pass takes (GRID_ARGS). */
+#define GRID_ARG_LIST(s, dims)                                                                     \
+    MEM((s)->sort_keys), MEM((s)->cell_start), MEM((s)->cell_end), RAW(sizeof(dims), &(dims))
+
 int solver_sort(struct solver *s, char *error, size_t error_size)
 {
     if (solver_ghosts_rebuild(s, error, error_size) || layout_grid(s, error, error_size))
@@ -310,12 +318,16 @@ int solver_sort(struct solver *s, char *error, size_t error_size)
     cell_ranges(s);
     reorder_fields(s);
     solver_ghosts_reindex(s);
+    if (s->graded) {
+        const cl_int4 dims = {{s->grid.dims[0], s->grid.dims[1], s->grid.dims[2], 0}};
+        struct real_arg a_skin;
+        SET_ARGS(s->k.neighbour_reach, MEM(s->field[FIELD_POS]), MEM(s->field[FIELD_FLAGS]),
+                 GRID_ARG_LIST(s, dims), MEM(s->run_params), real_value(s, &a_skin, s->skin),
+                 INT(s->n));
+        launch(s, s->k.neighbour_reach, (size_t)s->n, 0);
+    }
     return 0;
 }
-
-/* The grid arguments every neighbour pass takes (GRID_ARGS). */
-#define GRID_ARG_LIST(s, dims)                                                                     \
-    MEM((s)->sort_keys), MEM((s)->cell_start), MEM((s)->cell_end), RAW(sizeof(dims), &(dims))
 
 static void pass1(struct solver *s)
 {
@@ -548,7 +560,8 @@ void solver_neighbour_counts(struct solver *s, int *count_by_id)
 {
     const cl_int4 dims = {{s->grid.dims[0], s->grid.dims[1], s->grid.dims[2], 0}};
     SET_ARGS(s->k.neighbour_count, MEM(s->field[FIELD_POS]), MEM(s->field[FIELD_POS0]),
-             GRID_ARG_LIST(s, dims), MEM(s->run_params), MEM(s->spare[ELEM_INT]), INT(s->n));
+             MEM(s->field[FIELD_FLAGS]), GRID_ARG_LIST(s, dims), MEM(s->run_params),
+             MEM(s->spare[ELEM_INT]), INT(s->n));
     launch(s, s->k.neighbour_count, (size_t)s->n, 0);
     int *count = malloc(sizeof(int) * (size_t)s->n), *id = malloc(sizeof(int) * (size_t)s->n);
     CL_CHECK(clEnqueueReadBuffer(s->dev->queue, s->spare[ELEM_INT], CL_TRUE, 0,

@@ -155,6 +155,7 @@ struct sph_run_params {
     real thickness;      /* out-of-plane thickness in 2-D, m */
     real velocity_limit; /* |v| above this marks a particle bad, m/s */
     real hourglass;      /* total Lagrangian hourglass control coefficient alpha */
+    real axis_radius;    /* axisymmetric: smallest radius the 1/r terms use, dx / 4, m */
     sph_int as_exponent; /* n in f_ij^n */
     sph_int material_count;
 };

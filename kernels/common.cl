@@ -125,6 +125,13 @@ static inline fullt fullt_store(real t[3][3])
 #endif
 }
 
+/* A particle's lattice spacing over numerics.dx (graded lattices:
+ * host/scene.c); 1 on a uniform lattice. */
+static inline real spacing_scale(int flag)
+{
+    return (real)(1 << ((flag >> SPH_LEVEL_SHIFT) & SPH_LEVEL_MASK));
+}
+
 /* The neighbour grid as the passes see it: cells of edge `cell_size` from
  * `origin`, `dims` cells per axis, particles sorted by cell, and each
  * particle's cell (from its position at the last sort) in the high half of
@@ -151,22 +158,43 @@ static inline int4 grid_cell_coords(int cell, int4 dims)
 #define GRID_DZ 1
 #endif
 
+/* Graded lattices (SPH_GRADED; host/scene.c): a particle of spacing level
+ * k has smoothing length 2^k h, a pair uses the mean of the two (Monaghan
+ * 1992's symmetrisation, so the pair forces stay equal and opposite), and
+ * the grid, sized for the finest level, is searched as many cells out as
+ * the particle's flags say (its coarser neighbours' support reaches that
+ * far). On a uniform lattice both are constants. Kernels that use them
+ * take `flags` and `run`. */
+#ifdef SPH_GRADED
+#define PAIR_H(i, j) ((real)0.5 * run->h * (spacing_scale(flags[i]) + spacing_scale(flags[j])))
+#define NEIGHBOUR_REACH(i) ((flags[i] >> SPH_REACH_SHIFT) & SPH_REACH_MASK)
+#else
+#define PAIR_H(i, j) (run->h)
+#define NEIGHBOUR_REACH(i) 1
+#endif
+
 /* FOR_EACH_NEIGHBOUR(i, j) { ... } END_FOR_EACH_NEIGHBOUR visits every j in
- * the 3^d cells around i's cell, including i itself; the body tests the
- * distance against the support. */
-#define FOR_EACH_NEIGHBOUR(i, j)                                                                   \
+ * the (2 reach + 1)^d cells around i's cell (reach 1 on a uniform
+ * lattice), including i itself; the body tests the distance against the
+ * pair's support. FOR_EACH_NEIGHBOUR_WITHIN(i, j, reach) takes the reach
+ * (kernels that only run on uniform lattices: the total Lagrangian form,
+ * the grid's test hook). */
+#define FOR_EACH_NEIGHBOUR(i, j) FOR_EACH_NEIGHBOUR_WITHIN(i, j, NEIGHBOUR_REACH(i))
+#define FOR_EACH_NEIGHBOUR_WITHIN(i, j, reach)                                                     \
     {                                                                                              \
         const int4 home_ = grid_cell_coords((int)(sort_keys[i] >> 32), grid_dims);                 \
-        for (int dz_ = -GRID_DZ; dz_ <= GRID_DZ; ++dz_) {                                          \
+        const int reach_ = (reach);                                                                \
+        for (int dz_ = -GRID_DZ * reach_; dz_ <= GRID_DZ * reach_; ++dz_) {                        \
             const int cz_ = home_.z + dz_;                                                         \
             if (cz_ < 0 || cz_ >= grid_dims.z)                                                     \
                 continue;                                                                          \
-            for (int dy_ = -1; dy_ <= 1; ++dy_) {                                                  \
+            for (int dy_ = -reach_; dy_ <= reach_; ++dy_) {                                        \
                 const int cy_ = home_.y + dy_;                                                     \
                 if (cy_ < 0 || cy_ >= grid_dims.y)                                                 \
                     continue;                                                                      \
                 const int row_ = (cz_ * grid_dims.y + cy_) * grid_dims.x;                          \
-                const int x0_ = max(home_.x - 1, 0), x1_ = min(home_.x + 1, grid_dims.x - 1);      \
+                const int x0_ = max(home_.x - reach_, 0);                                          \
+                const int x1_ = min(home_.x + reach_, grid_dims.x - 1);                            \
                 /* cells x0..x1 of one row are contiguous in the sorted order */                   \
                 int first_ = -1, last_ = -1;                                                       \
                 for (int cx_ = x0_; cx_ <= x1_; ++cx_) {                                           \
@@ -226,22 +254,25 @@ static inline void matrix_invert_or_identity(real b[3][3], real c[3][3])
  * sum_j (m_j / r_j) W_ij = rho and V_j = m_j / (r_j rho_j) is the area the
  * ring covers in the (r, z) plane (the "Cartesian" axisymmetric SPH of
  * Petschek & Libersky 1993, J. Comput. Phys. 109; hoop terms in pass 1,
- * the material update and pass 2). Ghosts beyond the axis have r < 0. */
-static inline real plane_mass(real mass, vec x)
+ * the material update and pass 2). Ghosts beyond the axis have r < 0.
+ * Every 1/r uses axis_radius(r) >= run->axis_radius (dx / 4): material
+ * swept onto the axis (a cavity closing behind a projectile) would
+ * otherwise see its hoop terms diverge; a ring with its centre within a
+ * quarter spacing of the axis is not resolved anyway. */
+static inline real axis_radius(real r, __constant const struct sph_run_params *run)
 {
-#ifdef SPH_AXISYMMETRIC
-    return mass / fabs(x.x);
-#else
-    (void)x;
-    return mass;
-#endif
+    return fmax(fabs(r), run->axis_radius);
 }
 
-/* A particle's lattice spacing over numerics.dx (graded lattices:
- * host/scene.c); 1 on a uniform lattice. */
-static inline real spacing_scale(int flag)
+static inline real plane_mass(real mass, vec x, __constant const struct sph_run_params *run)
 {
-    return (real)(1 << ((flag >> SPH_LEVEL_SHIFT) & SPH_LEVEL_MASK));
+#ifdef SPH_AXISYMMETRIC
+    return mass / axis_radius(x.x, run);
+#else
+    (void)x;
+    (void)run;
+    return mass;
+#endif
 }
 
 /* A neighbour's mass as the momentum and energy sums weigh it: in an
@@ -251,13 +282,15 @@ static inline real spacing_scale(int flag)
  * i and the axial momentum of target and projectile is conserved to
  * round-off (with m_j / r_j the pair forces differ by O(dx / r), which
  * near the axis is O(1)). Elsewhere the mass itself. */
-static inline real pair_mass(real mass_j, vec xi, vec xj)
+static inline real pair_mass(real mass_j, vec xi, vec xj,
+                             __constant const struct sph_run_params *run)
 {
 #ifdef SPH_AXISYMMETRIC
-    return (real)2 * mass_j / (fabs(xi.x) + fabs(xj.x));
+    return (real)2 * mass_j / (axis_radius(xi.x, run) + axis_radius(xj.x, run));
 #else
     (void)xi;
     (void)xj;
+    (void)run;
     return mass_j;
 #endif
 }

@@ -71,10 +71,14 @@ __kernel void ghost_refresh_real(__global real *restrict field, GHOST_ARGS)
     field[dst] = field[src];
 }
 
-__kernel void ghost_refresh_int(__global int *restrict field, GHOST_ARGS)
+/* Integers are copied; for the flags (`keep` not ~0) only the bits a
+ * neighbour reads of an image (spacing level, search reach, damage) are
+ * copied, and the ghost bit is set. */
+__kernel void ghost_refresh_int(__global int *restrict field, GHOST_ARGS, const int keep,
+                                const int set)
 {
     GHOST_SLOTS;
-    field[dst] = field[src];
+    field[dst] = (field[src] & keep) | set;
 }
 
 /* is_position: reflect about the planes (x -> 2 plane - x), else flip the

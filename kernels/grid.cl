@@ -144,7 +144,7 @@ __kernel void grid_neighbour_list(__global const vec *restrict pos, __global con
         return;
     const vec pi = pos[i];
     int c = 0;
-    FOR_EACH_NEIGHBOUR(i, j)
+    FOR_EACH_NEIGHBOUR_WITHIN(i, j, 1)
     {
         const vec d = pi - pos[j];
         if (j != i && dot(d, d) < radius * radius) {
@@ -156,3 +156,42 @@ __kernel void grid_neighbour_list(__global const vec *restrict pos, __global con
     END_FOR_EACH_NEIGHBOUR
     count[i] = c;
 }
+
+#ifdef SPH_GRADED
+/* Graded lattices: how many cells each particle's neighbour search must
+ * reach (flags bits, kernels/common.cl). A particle of level k pairs with
+ * coarser ones (level k + 1) at the mean smoothing length 1.5 h_k, so it
+ * searches 1.5 supports when one lies within that reach, else one
+ * support; plus the skin for motion until the next sort. Recomputed at
+ * every sort, since material moves across the levels (a cavity pushes
+ * fine particles outwards). reads pos, flags; updates flags. */
+static inline int reach_cells(real h_over_h0, real skin)
+{
+    return (int)ceil((h_over_h0 + skin) / ((real)1 + skin) - (real)1e-6);
+}
+
+__kernel void grid_neighbour_reach(__global const vec *restrict pos, __global int *restrict flags,
+                                   GRID_ARGS, __constant const struct sph_run_params *run,
+                                   const real skin, const int n)
+{
+    const int i = get_global_id(0);
+    if (i >= n)
+        return;
+    const int flag = flags[i];
+    const int level = (flag >> SPH_LEVEL_SHIFT) & SPH_LEVEL_MASK;
+    const real scale = spacing_scale(flag);
+    const int wide = reach_cells((real)1.5 * scale, skin);
+    const real limit = (real)1.5 * run->support * scale + skin * run->support;
+    const vec xi = pos[i];
+    bool coarser_near = false;
+    FOR_EACH_NEIGHBOUR_WITHIN(i, j, wide)
+    {
+        const vec d = xi - pos[j];
+        coarser_near |=
+            ((flags[j] >> SPH_LEVEL_SHIFT) & SPH_LEVEL_MASK) > level && dot(d, d) < limit * limit;
+    }
+    END_FOR_EACH_NEIGHBOUR
+    const int reach = coarser_near ? wide : reach_cells(scale, skin);
+    flags[i] = (flag & ~(SPH_REACH_MASK << SPH_REACH_SHIFT)) | (reach << SPH_REACH_SHIFT);
+}
+#endif

@@ -164,7 +164,7 @@ __kernel void material_update(
     fullt_load(velocity_gradient[i], l);
     strain_rate_and_spin(l, m->plane_stress_nu, d, w);
 #ifdef SPH_AXISYMMETRIC
-    d[2][2] = vel_half[i].x / pos[i].x; /* hoop strain rate v_r / r */
+    d[2][2] = vel_half[i].x / axis_radius(pos[i].x, run); /* hoop strain rate v_r / r */
 #else
     (void)pos;
     (void)vel_half;

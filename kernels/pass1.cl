@@ -25,8 +25,7 @@ __kernel void pass1_velocity_gradient(
     const int i = get_global_id(0);
     if (i >= n || (flags[i] & SPH_FLAG_GHOST))
         return;
-    const real h = run->h;
-    const real support2 = run->support * run->support;
+    const real q2 = (run->support / run->h) * (run->support / run->h); /* (support / h)^2 */
     const vec xi = pos[i], vi = vel[i];
 #ifndef SPH_CSPH
     (void)csph;
@@ -39,9 +38,10 @@ __kernel void pass1_velocity_gradient(
     {
         const vec xij = xi - pos[j];
         const real r2 = dot(xij, xij);
-        if (j != i && r2 < support2) {
+        const real h = PAIR_H(i, j);
+        if (j != i && r2 < q2 * h * h) {
             const real r = sqrt(r2);
-            const real volume = plane_mass(mass[j], pos[j]) / rho[j];
+            const real volume = plane_mass(mass[j], pos[j], run) / rho[j];
             const vec grad = (kernel_dwdr(r, h) / r) * xij; /* grad_i W_ij */
             const vec vji = vel[j] - vi;
             for (int a = 0; a < SPH_DIM; ++a)
@@ -70,7 +70,7 @@ __kernel void pass1_velocity_gradient(
 #endif
     real divergence = grad_v[0][0] + grad_v[1][1] + grad_v[2][2];
 #ifdef SPH_AXISYMMETRIC
-    divergence += vi.x / xi.x; /* hoop strain rate v_r / r */
+    divergence += vi.x / axis_radius(xi.x, run); /* hoop strain rate v_r / r */
 #endif
 #ifdef SPH_PLANE_STRESS
     /* sigma_zz = 0 needs eps_zz rate = -nu/(1-nu) (eps_xx + eps_yy) (Hooke) */

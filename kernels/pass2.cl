@@ -101,8 +101,7 @@ __kernel void pass2_momentum_energy(
     const int i = get_global_id(0);
     if (i >= n || (flags[i] & SPH_FLAG_GHOST))
         return;
-    const real h = run->h;
-    const real support2 = run->support * run->support;
+    const real q2 = (run->support / run->h) * (run->support / run->h); /* (support / h)^2 */
     const vec xi = pos[i], vi = vel[i];
     const real rho_i = rho[i];
     const real c_i = materials[material[i]].sound_speed;
@@ -130,15 +129,16 @@ __kernel void pass2_momentum_energy(
     {
         const vec xij = xi - pos[j];
         const real r2 = dot(xij, xij);
-        if (j != i && r2 < support2) {
+        const real h = PAIR_H(i, j);
+        if (j != i && r2 < q2 * h * h) {
             const real r = sqrt(r2);
             const vec vij = vi - vel[j];
             /* axisymmetric: sigma_i weighed by m_j / r_j, sigma_j by m_j / r_i,
              * the artificial terms by m_j / r_ij (common.cl, pair_mass) */
-            const real rho_j = rho[j], m_j = plane_mass(mass[j], pos[j]);
-            const real m_pair = pair_mass(mass[j], xi, pos[j]);
+            const real rho_j = rho[j], m_j = plane_mass(mass[j], pos[j], run);
+            const real m_pair = pair_mass(mass[j], xi, pos[j], run);
 #ifdef SPH_AXISYMMETRIC
-            const real m_j_at_i = mass[j] / xi.x;
+            const real m_j_at_i = mass[j] / axis_radius(xi.x, run);
 #else
             const real m_j_at_i = m_j;
 #endif
@@ -210,7 +210,7 @@ __kernel void pass2_momentum_energy(
      * (the form with sigma_rr / r and sigma_rz / r source terms of Petschek
      * & Libersky 1993 does not conserve it near the axis). sigma_i holds
      * sigma / rho_i. */
-    acc[0] -= sigma_i[2][2] / xi.x;
+    acc[0] -= sigma_i[2][2] / axis_radius(xi.x, run);
 #endif
     acceleration[i] = vec_make(acc[0], acc[1], acc[2]);
     energy_rate[i] = de;

@@ -100,7 +100,8 @@ reduce_step(__global const vec *restrict pos, __global const vec *restrict pos_a
  * finite strain of a whole body, counts as a loss.
  * reads pos, pos0; writes neighbour_count. */
 __kernel void health_neighbour_count(__global const vec *restrict pos,
-                                     __global const vec *restrict pos0, GRID_ARGS,
+                                     __global const vec *restrict pos0,
+                                     __global const int *restrict flags, GRID_ARGS,
                                      __constant const struct sph_run_params *run,
                                      __global int *restrict neighbour_count, const int n)
 {
@@ -108,10 +109,11 @@ __kernel void health_neighbour_count(__global const vec *restrict pos,
     if (i >= n)
         return;
     const vec xi = pos[i];
-    const real support2 = run->support * run->support;
+    const real q2 = (run->support / run->h) * (run->support / run->h);
     int c = 0;
     FOR_EACH_NEIGHBOUR(i, j)
     {
+        const real h = PAIR_H(i, j), support2 = q2 * h * h;
         const vec d = xi - pos[j];
 #ifdef SPH_TOTAL_LAGRANGIAN
         const vec d0 = pos0[i] - pos0[j];
@@ -161,11 +163,13 @@ health_indicators(__global const vec *restrict pos, __global const real *restric
     real mine[SPH_HEALTH_SLOTS];
     for (int k = 0; k < SPH_HEALTH_SLOTS; ++k)
         mine[k] = health_slot_is_min(k) ? (real)INFINITY : (real)0;
-    const real h = run->h, support2 = run->support * run->support;
+    const real q2 = (run->support / run->h) * (run->support / run->h);
     for (int i = get_global_id(0); i < n; i += get_global_size(0)) {
         if (flags[i] & (SPH_FLAG_GHOST | SPH_FLAG_FIXED))
             continue;
         const vec xi = pos[i];
+        /* distances in units of the particle's own spacing over dx */
+        const real scale_i = spacing_scale(flags[i]);
         real nearest2 = INFINITY;
         vec nearest = VEC_ZERO;
         int count = 0;
@@ -173,7 +177,8 @@ health_indicators(__global const vec *restrict pos, __global const real *restric
         {
             const vec d = pos[j] - xi;
             const real r2 = dot(d, d);
-            if (j != i && r2 < support2) {
+            const real h = PAIR_H(i, j);
+            if (j != i && r2 < q2 * h * h) {
                 ++count;
                 if (r2 < nearest2) {
                     nearest2 = r2;
@@ -188,7 +193,7 @@ health_indicators(__global const vec *restrict pos, __global const real *restric
         mine[SPH_HEALTH_NEIGHBOURS_SUM] += (real)count;
         if (count == 0)
             continue;
-        const real r = sqrt(nearest2);
+        const real r = sqrt(nearest2) / scale_i;
         mine[SPH_HEALTH_MIN_DISTANCE] = fmin(mine[SPH_HEALTH_MIN_DISTANCE], r);
         if (r < (real)0.5 * dx)
             mine[SPH_HEALTH_CLUMPED] += 1;
@@ -196,13 +201,13 @@ health_indicators(__global const vec *restrict pos, __global const real *restric
         symt_load(deviatoric_stress[i], sigma);
         for (int a = 0; a < 3; ++a) {
             sigma[a][a] -= pressure[i];
-            normal[a] = vec_get(nearest, a) / r;
+            normal[a] = vec_get(nearest, a) / (r * scale_i);
         }
         real sigma_n = 0;
         for (int a = 0; a < SPH_DIM; ++a)
             for (int b = 0; b < SPH_DIM; ++b)
                 sigma_n += normal[a] * sigma[a][b] * normal[b];
-        if (kernel_d2wdr2(r, h) * sigma_n > 0)
+        if (kernel_d2wdr2(r, run->h) * sigma_n > 0) /* in units of its own spacing */
             mine[SPH_HEALTH_SWEGLE] += 1;
     }
     for (int k = 0; k < SPH_HEALTH_SLOTS; ++k)

@@ -59,7 +59,7 @@ __kernel void tl_correction(__global const vec *restrict pos0, __global const re
     const real support2 = run->support * run->support;
     const vec xi = pos0[i];
     real moment[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
-    FOR_EACH_NEIGHBOUR(i, j)
+    FOR_EACH_NEIGHBOUR_WITHIN(i, j, 1)
     {
         const vec xij = xi - pos0[j];
         real volume;
@@ -114,7 +114,7 @@ tl_deformation(__global const vec *restrict pos, __global const vec *restrict po
     const vec big_xi = pos0[i], xi = pos[i], wi = vel_half[i] + xsph_velocity[i];
     real sum_x[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
     real sum_w[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
-    FOR_EACH_NEIGHBOUR(i, j)
+    FOR_EACH_NEIGHBOUR_WITHIN(i, j, 1)
     {
         real volume;
         vec grad;
@@ -244,7 +244,7 @@ __kernel void tl_momentum(__global const vec *restrict pos, __global const vec *
     real acc[3] = {0, 0, 0};
     real de = 0;
     vec xsph = VEC_ZERO, acc_extra = VEC_ZERO; /* viscosity, hourglass */
-    FOR_EACH_NEIGHBOUR(i, j)
+    FOR_EACH_NEIGHBOUR_WITHIN(i, j, 1)
     {
         const vec big_xij = big_xi - pos0[j];
         const real r02 = dot(big_xij, big_xij);

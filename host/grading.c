@@ -1,0 +1,110 @@
+/* Graded lattices: a body filled finest around the region of interest and
+ * coarser away from it (bodies[].grading).
+ *
+ * Level k has spacing 2^k dx and covers box_k less box_(k-1): box_0 is the
+ * fine box, box_k adds `layers` particles of level k on every side, and the
+ * coarsest level fills the rest of the body. Every lattice starts at the
+ * body's corner nearest the fine box (for a penetration target: the impact
+ * face and the axis), and box_k's faces are snapped outward to whole cells
+ * of level k + 1, so the levels tile the body without gaps or overlaps. A
+ * particle's level and how many grid cells its neighbour search reaches go
+ * into its flags (include/sph_shared.h); kernels/common.cl turns them into
+ * the pair's smoothing length and the search. */
+#include <math.h>
+
+#include "scene.h"
+
+#define MAX_LEVELS 7
+
+struct grading_frame {
+    int dim, levels;
+    double dx;
+    double anchor[3];                            /* the body corner the lattices start from */
+    double sign[3];                              /* +1 where the body lies above the anchor */
+    double lo[MAX_LEVELS][3], hi[MAX_LEVELS][3]; /* box_k in t = sign (x - anchor) >= 0 */
+};
+
+static void make_frame(const struct sph_case *c, const struct case_body *b, struct grading_frame *g)
+{
+    const struct case_grading *gr = &b->grading;
+    g->dim = c->dimension;
+    g->levels = gr->levels;
+    g->dx = c->numerics.dx;
+    for (int a = 0; a < 3; ++a) {
+        g->anchor[a] = 0;
+        g->sign[a] = 1;
+        if (a >= g->dim)
+            continue;
+        const double centre = 0.5 * (gr->fine.min[a] + gr->fine.max[a]);
+        const int from_min = fabs(centre - b->box.min[a]) <= fabs(b->box.max[a] - centre);
+        g->anchor[a] = from_min ? b->box.min[a] : b->box.max[a];
+        g->sign[a] = from_min ? 1.0 : -1.0;
+        const double t0 = g->sign[a] * (gr->fine.min[a] - g->anchor[a]);
+        const double t1 = g->sign[a] * (gr->fine.max[a] - g->anchor[a]);
+        double lo = fmax(fmin(t0, t1), 0.0), hi = fmax(t0, t1);
+        for (int k = 0; k < g->levels; ++k) {
+            const double widen = k == 0 ? 0.0 : gr->layers * g->dx * (1 << k);
+            const double cell = g->dx * (1 << (k + 1)); /* the next level's spacing */
+            lo = fmax(floor((lo - widen) / cell + 1e-9) * cell, 0.0);
+            hi = ceil((hi + widen) / cell - 1e-9) * cell;
+            g->lo[k][a] = lo;
+            g->hi[k][a] = hi;
+        }
+    }
+}
+
+static int in_level_box(const struct grading_frame *g, int k, const double *t)
+{
+    if (k < 0)
+        return 0;
+    if (k >= g->levels)
+        return 1;
+    for (int a = 0; a < g->dim; ++a)
+        if (t[a] < g->lo[k][a] || t[a] > g->hi[k][a])
+            return 0;
+    return 1;
+}
+
+/* Grid cells (sized for the finest level: support (1 + skin)) a level-k
+ * particle searches among its own level; kernels/grid.cl
+ * (grid_neighbour_reach) widens it at every sort where a coarser level is
+ * near. */
+static int search_reach(int k, double skin)
+{
+    return (int)ceil(((double)(1 << k) + skin) / (1.0 + skin) - 1e-9);
+}
+
+int grading_fill(const struct sph_case *c, const struct case_body *b, struct sph_particle_sink *out)
+{
+    struct grading_frame g;
+    make_frame(c, b, &g);
+    const int dim = c->dimension;
+    int added = 0;
+    for (int k = 0; k <= g.levels; ++k) {
+        const double spacing = g.dx * (1 << k);
+        double extent[3] = {0, 0, 0};
+        long counts[3] = {1, 1, 1};
+        for (int a = 0; a < dim; ++a) {
+            extent[a] = b->box.max[a] - b->box.min[a];
+            counts[a] = (long)ceil(extent[a] / spacing - 1e-9);
+        }
+        for (long kz = 0; kz < counts[2]; ++kz)
+            for (long ky = 0; ky < counts[1]; ++ky)
+                for (long kx = 0; kx < counts[0]; ++kx) {
+                    const long idx[3] = {kx, ky, kz};
+                    double t[3] = {0, 0, 0}, x[3] = {0, 0, 0};
+                    int inside = 1;
+                    for (int a = 0; a < dim; ++a) {
+                        t[a] = (idx[a] + 0.5) * spacing;
+                        x[a] = g.anchor[a] + g.sign[a] * t[a];
+                        inside &= t[a] <= extent[a];
+                    }
+                    if (!inside || !in_level_box(&g, k, t) || in_level_box(&g, k - 1, t))
+                        continue;
+                    if (out->emit(out, x, k, search_reach(k, out->skin)))
+                        return -1;
+                    ++added;
+                }
+    }
+    return added;
+}
