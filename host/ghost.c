@@ -34,8 +34,15 @@ void solver_ghosts_setup(struct solver *s, const struct sph_case *c, const struc
     struct ghosts *g = &s->ghosts;
     memset(g, 0, sizeof *g);
     for (int k = 0; k < c->symmetry_count; ++k) {
-        g->reflected[c->symmetry[k].axis] = 1;
-        g->plane[c->symmetry[k].axis] = c->symmetry[k].position;
+        const int a = c->symmetry[k].axis;
+        g->reflected[a] = 1;
+        g->plane[a] = c->symmetry[k].position;
+        /* the side the body lies on (the lattice starts half a spacing off
+         * the plane, so no particle sits on it) */
+        double mean = 0;
+        for (int p = 0; p < scene->count; ++p)
+            mean += scene->position[3 * p + a] - g->plane[a];
+        g->side[a] = mean >= 0 ? 1.0 : -1.0;
         ++g->plane_count;
     }
     s->n_real = scene->count;

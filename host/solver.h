@@ -85,6 +85,7 @@ struct ghosts {
     int plane_count;
     int reflected[3]; /* 1 where a plane is normal to that axis */
     double plane[3];  /* its coordinate, m */
+    double side[3];   /* +1 or -1: the side of the plane the real particles stay on */
     double width;     /* particles this close to a plane get images, m ... */
     double *scale;    /* ... times this factor per real particle (graded lattices) */
     int count;        /* ghosts in use */

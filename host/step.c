@@ -458,9 +458,17 @@ void solver_step(struct solver *s, double dt, double dt_prev, const double load[
     if (s->projectile.enabled)
         solver_projectile_advance(s, dt, dt_prev);
     deformation_and_material(s, dt);
+    /* symmetry planes the particles must not cross (side 0: no plane) */
+    double side[3], plane[3];
+    for (int a = 0; a < 3; ++a) {
+        side[a] = s->ghosts.reflected[a] ? s->ghosts.side[a] : 0.0;
+        plane[a] = s->ghosts.plane[a];
+    }
+    struct real4_arg a_side, a_plane;
     SET_ARGS(s->k.drift, MEM(f[FIELD_POS]), MEM(f[FIELD_DISPLACEMENT]), MEM(f[FIELD_POS0]),
              MEM(f[FIELD_VEL_HALF]), MEM(f[FIELD_XSPH_VELOCITY]), MEM(f[FIELD_FLAGS]),
-             real_value(s, &a_dt, dt), INT(s->n));
+             real_value(s, &a_dt, dt), real4_value(s, &a_plane, plane),
+             real4_value(s, &a_side, side), INT(s->n));
     launch(s, s->k.drift, (size_t)s->n, 0);
 }
 

@@ -92,17 +92,39 @@ __kernel void integrate_kick(__global vec *restrict vel, __global vec *restrict 
 /* The displacement, not the position, is integrated: in single precision a
  * position of 0.1 m has an ulp of 7e-9 m, more than a slow particle moves in
  * a step, while the displacement keeps its increments to N_steps * 2^-24.
- * reads vel_half, xsph_velocity, flags, pos0; updates displacement; writes pos. */
+ * A particle that would cross a symmetry plane (side[a] = +1 or -1 on the
+ * plane's axis a, 0 elsewhere) is reflected back and its normal velocity
+ * reversed, as its mirror image would meet it: material swept onto the axis
+ * of an axisymmetric case (a cavity closing) must not pass it.
+ * reads xsph_velocity, flags, pos0; updates vel_half, displacement; writes pos. */
 __kernel void integrate_drift(__global vec *restrict pos, __global vec *restrict displacement,
-                              __global const vec *restrict pos0,
-                              __global const vec *restrict vel_half,
+                              __global const vec *restrict pos0, __global vec *restrict vel_half,
                               __global const vec *restrict xsph_velocity,
-                              __global const int *restrict flags, const real dt, const int n)
+                              __global const int *restrict flags, const real dt, const real4 plane,
+                              const real4 side, const int n)
 {
     const int i = get_global_id(0);
     if (i >= n || (flags[i] & (SPH_FLAG_FIXED | SPH_FLAG_GHOST)))
         return;
     const vec u = displacement[i] + dt * (vel_half[i] + xsph_velocity[i]);
+    const vec x0 = pos0[i];
+    real x[3] = {vec_get(x0 + u, 0), vec_get(x0 + u, 1), vec_get(x0 + u, 2)};
+    real v[3] = {vec_get(vel_half[i], 0), vec_get(vel_half[i], 1), vec_get(vel_half[i], 2)};
+    const real planes[3] = {plane.x, plane.y, plane.z}, sides[3] = {side.x, side.y, side.z};
+    bool reflected = false;
+    for (int a = 0; a < SPH_DIM; ++a)
+        if (sides[a] != 0 && (x[a] - planes[a]) * sides[a] < 0) {
+            x[a] = (real)2 * planes[a] - x[a];
+            v[a] = -v[a];
+            reflected = true;
+        }
+    if (reflected) {
+        const vec moved = vec_make(x[0], x[1], x[2]);
+        vel_half[i] = vec_make(v[0], v[1], v[2]);
+        displacement[i] = moved - x0;
+        pos[i] = moved;
+        return;
+    }
     displacement[i] = u;
-    pos[i] = pos0[i] + u;
+    pos[i] = x0 + u;
 }

@@ -71,6 +71,21 @@ static inline real pressure_eos(SPH_CONSTANT struct sph_material *m, real mu, re
     return pressure_linear(m, mu);
 }
 
+/* The longitudinal wave speed at the current state, m/s:
+ * c^2 = (dp/drho at fixed e) + 4 G / (3 rho0), the slope by a central
+ * difference over mu +- 1e-3; never below the reference speed at rho0. A
+ * compressed Mie-Gruneisen or polynomial solid stiffens (at mu = 3 the
+ * polynomial gelatin's c is five times c0), and the time step must follow
+ * (kernels/reduce.cl). */
+static inline real sound_speed_current(SPH_CONSTANT struct sph_material *m, real rho, real e)
+{
+    const real mu = rho / m->density - (real)1, step = (real)1e-3;
+    const real slope = (pressure_eos(m, mu + step, e) - pressure_eos(m, mu - step, e)) /
+                       ((real)2 * step * m->density);
+    const real c2 = slope + (real)4 * m->shear_modulus / ((real)3 * m->density);
+    return fmax(m->sound_speed, sqrt(fmax(c2, (real)0)));
+}
+
 /* Johnson-Cook yield stress (thesis eq. 3.32; Johnson & Cook 1983):
  *   sigma_y = (A + B eps_p^n) (1 + C ln(rate*)) (1 - T*^m)
  * with rate* = max(rate / rate0, 1) (no softening below the reference

@@ -38,7 +38,8 @@ reduce_step(__global const vec *restrict pos, __global const vec *restrict pos_a
         const vec v = vel_half[i], x = pos[i];
         const real speed = length(v);
         mine[SPH_RED_MAX_SIGNAL] =
-            fmax(mine[SPH_RED_MAX_SIGNAL], materials[material[i]].sound_speed + speed);
+            fmax(mine[SPH_RED_MAX_SIGNAL],
+                 sound_speed_current(&materials[material[i]], rho[i], energy[i]) + speed);
         mine[SPH_RED_MAX_SPEED] = fmax(mine[SPH_RED_MAX_SPEED], speed);
         mine[SPH_RED_MAX_MOVED] = fmax(mine[SPH_RED_MAX_MOVED], length(x - pos_at_sort[i]));
         const bool bad = isnan(speed) || isinf(speed) || !(speed <= run->velocity_limit) ||
