@@ -123,14 +123,16 @@ int solver_projectile_create(struct solver *s, const struct sph_case *c,
     return 0;
 }
 
-void solver_projectile_contact(struct solver *s)
+void solver_projectile_contact(struct solver *s, double dt, double dt_prev)
 {
     struct projectile *p = &s->projectile;
-    struct real_arg a_radius, a_speed, a_dx;
-    SET_ARGS(s->k.projectile_contact, MEM(s->field[FIELD_POS]), MEM(s->field[FIELD_MASS]),
-             MEM(s->field[FIELD_FLAGS]), MEM(s->field[FIELD_ACCELERATION]), MEM(p->state),
-             real_value(s, &a_radius, p->radius), real_value(s, &a_speed, p->stiffness_speed),
-             real_value(s, &a_dx, s->dx), MEM(p->contact_partials), INT(s->n));
+    struct real_arg a_radius, a_speed, a_dx, a_dt, a_prev;
+    SET_ARGS(s->k.projectile_contact, MEM(s->field[FIELD_POS]), MEM(s->field[FIELD_VEL]),
+             MEM(s->field[FIELD_VEL_HALF]), MEM(s->field[FIELD_MASS]), MEM(s->field[FIELD_FLAGS]),
+             MEM(s->field[FIELD_ACCELERATION]), MEM(p->state), real_value(s, &a_radius, p->radius),
+             real_value(s, &a_speed, p->stiffness_speed), real_value(s, &a_dx, s->dx),
+             real_value(s, &a_dt, dt), real_value(s, &a_prev, dt_prev), MEM(p->contact_partials),
+             INT(s->n));
     solver_launch(s, s->k.projectile_contact, (size_t)s->reduce_groups * REDUCE_GROUP_SIZE,
                   REDUCE_GROUP_SIZE);
 }
@@ -188,6 +190,7 @@ void solver_projectile_read(struct solver *s, struct projectile_reading *out)
         speed += out->velocity[a] * p->axis[a];
     }
     out->contact_energy = state[SPH_PROJ_CONTACT_ENERGY];
+    out->dissipated = state[SPH_PROJ_DISSIPATED];
     out->contacts = (int)state[SPH_PROJ_CONTACTS];
     out->penetration = along + p->radius - p->surface;
     out->speed_along_axis = speed;

@@ -95,6 +95,7 @@ int output_ballistics_open(struct output *o, const struct projectile *p, char *e
     fprintf(o->ballistics,
             "time_s,penetration_m,velocity_m_per_s,decelerating_force_N,contact_particles,"
             "system_momentum_kg_m_per_s,projectile_kinetic_energy_J,contact_energy_J,"
+            "contact_dissipated_J,"
             "centre_x_m,centre_y_m,centre_z_m");
     for (int pass = 0; pass < 2; ++pass)
         for (int k = 0; k < p->probe_count; ++k)
@@ -112,10 +113,10 @@ void output_ballistics(struct output *o, const struct ballistics_row *r)
         force += p->force[a] * p->velocity[a];
     const double speed = sqrt(p->velocity[0] * p->velocity[0] + p->velocity[1] * p->velocity[1] +
                               p->velocity[2] * p->velocity[2]);
-    fprintf(o->ballistics, "%.9e,%.9e,%.9e,%.6e,%d,%.9e,%.9e,%.6e,%.9e,%.9e,%.9e", r->time,
+    fprintf(o->ballistics, "%.9e,%.9e,%.9e,%.6e,%d,%.9e,%.9e,%.6e,%.6e,%.9e,%.9e,%.9e", r->time,
             p->penetration, p->speed_along_axis, speed > 0 ? -force / speed : 0.0, p->contacts,
-            r->system_momentum, r->projectile_kinetic, p->contact_energy, p->position[0],
-            p->position[1], p->position[2]);
+            r->system_momentum, r->projectile_kinetic, p->contact_energy, p->dissipated,
+            p->position[0], p->position[1], p->position[2]);
     for (int k = 0; k < o->cavity_probes; ++k)
         fprintf(o->ballistics, ",%.6e", p->cavity_d1[k]);
     for (int k = 0; k < o->cavity_probes; ++k)

@@ -43,7 +43,7 @@ struct history_row {
     double energy_error;      /* (E - E0) / energy scale */
     double wall_force[3];     /* on the walls, mean since the previous row, N */
     double wall_work;         /* work of the wall forces on the particles so far, J */
-    double projectile_energy; /* projectile kinetic + contact spring energy, J */
+    double projectile_energy; /* projectile kinetic + contact spring energy + damper work, J */
 };
 
 /* The figures a run ends with (summary line and summary.json). */

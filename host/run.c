@@ -141,7 +141,7 @@ static void track_projectile(struct loop *L)
     }
     row.projectile_kinetic = 0.5 * p->mass * speed2;
     row.system_momentum = p->momentum_scale * target + p->mass * row.p.speed_along_axis;
-    b->energy = row.projectile_kinetic + row.p.contact_energy;
+    b->energy = row.projectile_kinetic + row.p.contact_energy + row.p.dissipated;
     if (L->step == 0)
         b->momentum0 = row.system_momentum;
     b->momentum_error =

@@ -125,6 +125,7 @@ struct projectile {
 struct projectile_reading {
     double position[3], velocity[3], force[3]; /* m, m/s, N */
     double contact_energy;                     /* J */
+    double dissipated;                         /* work of the contact dampers so far, J */
     int contacts;
     double penetration;      /* nose depth below the surface along the axis, m */
     double speed_along_axis; /* m/s, positive into the target */
@@ -223,7 +224,7 @@ void solver_ghosts_release(struct solver *s);
  * scene, the two launches of a step, and the history's reading. */
 int solver_projectile_create(struct solver *s, const struct sph_case *c,
                              const struct sph_scene *scene, char *error, size_t error_size);
-void solver_projectile_contact(struct solver *s);
+void solver_projectile_contact(struct solver *s, double dt, double dt_prev);
 void solver_projectile_advance(struct solver *s, double dt, double dt_prev);
 void solver_projectile_read(struct solver *s, struct projectile_reading *out);
 void solver_projectile_release(struct solver *s);

@@ -448,7 +448,7 @@ void solver_step(struct solver *s, double dt, double dt_prev, const double load[
     else
         pass2(s);
     if (s->projectile.enabled)
-        solver_projectile_contact(s); /* adds to the accelerations */
+        solver_projectile_contact(s, dt, dt_prev); /* adds to the accelerations */
     SET_ARGS(s->k.kick, MEM(f[FIELD_VEL]), MEM(f[FIELD_VEL_HALF]), MEM(f[FIELD_ACCELERATION]),
              MEM(f[FIELD_MASS]), MEM(f[FIELD_FLAGS]), MEM(f[FIELD_POS]), MEM(f[FIELD_MATERIAL]),
              MEM(s->materials), MEM(s->run_params), MEM(s->walls), INT(s->wall_count),

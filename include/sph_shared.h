@@ -76,6 +76,7 @@ enum sph_projectile_slot {
     SPH_PROJ_F = 6,              /* force of the target on the sphere, N (whole model) */
     SPH_PROJ_CONTACT_ENERGY = 9, /* energy stored in the contact springs, J */
     SPH_PROJ_CONTACTS = 10,      /* particles in contact */
+    SPH_PROJ_DISSIPATED = 11,    /* work of the contact dampers since t = 0, J */
     SPH_PROJ_SLOTS = 16
 };
 /* Per-work-group partials of the contact kernel. */
@@ -83,6 +84,7 @@ enum sph_contact_slot {
     SPH_CONTACT_FX = 0, /* sum of contact forces on the particles, N (per m or radian in 2-D) */
     SPH_CONTACT_ENERGY = 3,
     SPH_CONTACT_COUNT = 4,
+    SPH_CONTACT_DISSIPATION = 5, /* power of the contact dampers, W (per m or radian) */
     SPH_CONTACT_SLOTS = 8
 };
 /* Cavity probes (kernels/projectile.cl, projectile_cavity): per probe
