@@ -196,7 +196,10 @@ health_indicators(__global const vec *restrict pos, __global const real *restric
             continue;
         const real r = sqrt(nearest2) / scale_i;
         mine[SPH_HEALTH_MIN_DISTANCE] = fmin(mine[SPH_HEALTH_MIN_DISTANCE], r);
-        if (r < (real)0.5 * dx)
+        /* failed material (a fluid without tension: no tensile
+         * instability) compacts against a projectile's contact; clumping
+         * counts intact material only */
+        if (r < (real)0.5 * dx && !(flags[i] & SPH_FLAG_DAMAGED))
             mine[SPH_HEALTH_CLUMPED] += 1;
         real sigma[3][3], normal[3];
         symt_load(deviatoric_stress[i], sigma);
