@@ -1,0 +1,262 @@
+#!/usr/bin/python3
+"""Micro-particle penetration studies (issue: penetration into gelatin and
+SEBS gel), each one command, tables and plots under results/penetration/.
+
+  tools/penetration_study.py run        --case gelatin|sebs [--d D] [--v0 V] [--n N]
+  tools/penetration_study.py sweep      --case gelatin|sebs [--v0 ...] [--d ...] [--n N]
+  tools/penetration_study.py sebs       [--n N]      the three fitting trajectories
+  tools/penetration_study.py convergence --case gelatin [--n 6 8 10 12 16]
+  tools/penetration_study.py domain     --case gelatin [--n N]   1x and 2x target
+  tools/penetration_study.py grading    --case gelatin [--n N]   graded vs uniform lattice
+  common: [--results DIR] [--set key=value ...] [--quick]
+
+Every run is cases/gelatin_silica.yaml or cases/sebs_steel.yaml with the
+scene scaled to the sphere (in units of its diameter d: target 16 d in
+radius and 32 d deep, spacing dx = d / n within 2.2 d of the axis and 16 d
+of the surface, doubling outwards up to 8 dx), the sphere's nose on the
+surface, and the end time 1.4 times the analytical model's time of maximum
+depth. The depth is the nose's depth below the undisturbed surface (the
+distance moved since contact), compared with the models' P + d/2
+(REFERENCES.md 3; tools/penetration_models.py, nose=True).
+
+Models drawn: gelatin, Poncelet Cd = 0.375, R = 21 MPa; SEBS, modified
+Clift-Gauvin eta = 4.5e-2 Pa s, R = 25 MPa (approach b) and Poncelet
+Cd = 0.8, R = 33.7 MPa.
+"""
+import argparse
+import csv
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import penetration_models as pm  # noqa: E402
+import studylib  # noqa: E402
+from studylib import write_table  # noqa: E402
+import matplotlib  # noqa: E402
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+CASES = {
+    # case file, target, projectile density, model, parameters, default d and v0
+    "gelatin": ("gelatin_silica.yaml", pm.GELATIN, pm.SILICA, "poncelet", pm.GELATIN_PONCELET,
+                7.38e-6, 1290.0),
+    "sebs": ("sebs_steel.yaml", pm.SEBS, pm.STEEL, "clift_gauvin", pm.SEBS_CLIFT_GAUVIN, 13e-6,
+             630.0),
+}
+GELATIN_SWEEP = [200, 400, 600, 800, 1000, 1290, 1500]
+
+
+def model_depth(case, d, v0):
+    """(P_max + d/2, time of P_max) of the case's analytical model."""
+    _, target, rho_p, model, params, _, _ = CASES[case]
+    return pm.max_depth(model, params, pm.Projectile(d, rho_p), target, v0, nose=True)
+
+
+def scene_sets(case, d, v0, n, domain=1.0, graded=True):
+    """--set overrides that scale the case's scene to sphere d at v0."""
+    p_model, t_model = model_depth(case, d, v0)
+    radius, depth = 16 * d * domain, 32 * d * domain
+    fine_depth = max(16 * d, 1.5 * p_model)
+    sets = [
+        f"projectile.diameter={d!r}", f"projectile.centre=[0,{0.5 * d!r}]",
+        f"projectile.velocity=[0,{-v0!r}]", f"numerics.dx={d / n!r}",
+        f"bodies.gel.min=[0,{-max(depth, 2 * fine_depth)!r}]", f"bodies.gel.max=[{radius!r},0]",
+        f"numerics.end_time={1.4 * t_model!r}", f"output.snapshot_interval={1.4 * t_model / 20!r}",
+        f"projectile.cavity_probe_spacing={d!r}",
+    ]
+    body_depth = max(depth, 2 * fine_depth)
+    sets[4] = f"bodies.gel.min=[0,{-body_depth!r}]"
+    if graded:
+        sets += [f"bodies.gel.grading.fine_min=[0,{-fine_depth!r}]",
+                 f"bodies.gel.grading.fine_max=[{2.2 * d!r},0]"]
+    else:  # the fine box is the whole body: one level
+        sets += [f"bodies.gel.grading.fine_min=[0,{-body_depth!r}]",
+                 f"bodies.gel.grading.fine_max=[{radius!r},0]"]
+    return sets
+
+
+def run(args, case, d, v0, n, label, domain=1.0, graded=True):
+    """Runs one scene; returns (summary, ballistics rows)."""
+    out = os.path.join(args.results, "penetration", "runs", label)
+    sets = scene_sets(case, d, v0, n, domain, graded) + list(args.set)
+    summary = studylib.run(os.path.join(ROOT, "cases", CASES[case][0]), out, sets,
+                           "penetration_study")
+    with open(os.path.join(out, "ballistics.csv")) as f:
+        rows = list(csv.DictReader(f))
+    return summary, rows
+
+
+def describe(s, d):
+    return [f"{1e6 * s['max_penetration_m']:.2f}", f"{s['max_penetration_m'] / d:.3f}",
+            f"{1e9 * s['time_of_max_penetration_s']:.0f}",
+            f"{1e6 * s['max_cavity_diameter_m']:.1f}", f"{1e6 * s['max_damaged_diameter_m']:.1f}",
+            f"{s['momentum_error']:.1e}", f"{s['energy_drift']:.3f}", s["particles"], s["steps"],
+            f"{s['wall_time_s']:.0f}", s["status"]]
+
+
+HEADER = ["P_max (um)", "P_max/d", "t(P_max) (ns)", "D1 max (um)", "D2 max (um)",
+          "momentum error", "energy drift", "particles", "steps", "wall (s)", "status"]
+
+
+def trajectory_plot(path, title, runs, case):
+    """Depth and velocity against time, SPH (solid) and model (dashed)."""
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.2))
+    _, target, rho_p, model, params, _, _ = CASES[case]
+    for k, (label, d, v0, rows) in enumerate(runs):
+        colour = f"C{k}"
+        t = [1e9 * float(r["time_s"]) for r in rows]
+        ax1.plot(t, [1e6 * float(r["penetration_m"]) for r in rows], colour, label=f"SPH {label}")
+        ax2.plot(t, [float(r["velocity_m_per_s"]) for r in rows], colour)
+        tm, pmod, vm = pm.trajectory(model, params, pm.Projectile(d, rho_p), target, v0,
+                                     nose=True)
+        ax1.plot(1e9 * tm, 1e6 * pmod, colour + "--", label=f"{model} {label}")
+        ax2.plot(1e9 * tm, vm, colour + "--")
+    ax1.set_xlabel("time (ns)")
+    ax1.set_ylabel("penetration depth (um)")
+    ax2.set_xlabel("time (ns)")
+    ax2.set_ylabel("projectile velocity (m/s)")
+    ax1.legend(fontsize=8)
+    fig.suptitle(title)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def folder(args):
+    f = os.path.join(args.results, "penetration")
+    os.makedirs(f, exist_ok=True)
+    return f
+
+
+def cmd_run(args):
+    case = args.case
+    d = args.d[0] if args.d else CASES[case][5]
+    v0 = args.v0[0] if args.v0 else CASES[case][6]
+    s, rows = run(args, case, d, v0, args.n[0], f"{case}_d{1e6 * d:g}_v{v0:g}_n{args.n[0]}")
+    p_model, t_model = model_depth(case, d, v0)
+    write_table(folder(args), f"{case}_run", ["d (um)", "v0 (m/s)", "model P_max (um)"] + HEADER,
+                [[f"{1e6 * d:g}", f"{v0:g}", f"{1e6 * p_model:.2f}"] + describe(s, d)])
+    trajectory_plot(os.path.join(folder(args), f"{case}_trajectory.png"),
+                    f"{case}: d = {1e6 * d:g} um at {v0:g} m/s",
+                    [(f"{1e6 * d:g} um, {v0:g} m/s", d, v0, rows)], case)
+
+
+def cmd_sweep(args):
+    case = args.case
+    ds = args.d or [CASES[case][5]]
+    vs = args.v0 or (GELATIN_SWEEP if case == "gelatin" else [215, 300, 440, 630, 735])
+    table, points = [], []
+    for d in ds:
+        for v0 in vs:
+            s, _ = run(args, case, d, v0, args.n[0], f"{case}_d{1e6 * d:g}_v{v0:g}_n{args.n[0]}")
+            p_model, _ = model_depth(case, d, v0)
+            err = s["max_penetration_m"] / p_model - 1
+            table.append([f"{1e6 * d:g}", f"{v0:g}", f"{p_model / d:.3f}", f"{100 * err:+.1f}%"]
+                         + describe(s, d))
+            points.append((d, v0, s["max_penetration_m"] / d))
+    write_table(folder(args), f"{case}_sweep",
+                ["d (um)", "v0 (m/s)", "model P_max/d", "SPH vs model"] + HEADER, table)
+    fig, ax = plt.subplots(figsize=(6.5, 4.5))
+    _, target, rho_p, model, params, _, _ = CASES[case]
+    v = [50 + 10 * k for k in range(150)]
+    for d in ds:
+        curve = [pm.max_depth(model, params, pm.Projectile(d, rho_p), target, x,
+                              nose=True)[0] / d for x in v]
+        ax.plot(v, curve, "--", label=f"{model}, d = {1e6 * d:g} um")
+        if case == "sebs":
+            pon = [pm.max_depth("poncelet", pm.SEBS_PONCELET, pm.Projectile(d, rho_p), target, x,
+                                nose=True)[0] / d for x in v]
+            ax.plot(v, pon, ":", label=f"poncelet, d = {1e6 * d:g} um")
+    for d in ds:
+        xs = [p[1] for p in points if p[0] == d]
+        ys = [p[2] for p in points if p[0] == d]
+        ax.plot(xs, ys, "o", label=f"SPH, d = {1e6 * d:g} um")
+    if case == "gelatin":
+        ax.plot([1290], [67e-6 / 7.38e-6], "k*", ms=12, label="Veysset et al. 2018")
+    ax.set_xlabel("impact velocity v0 (m/s)")
+    ax.set_ylabel("P_max / d")
+    ax.set_xlim(0, max(vs) * 1.1)
+    ax.legend(fontsize=8)
+    ax.set_title(f"{case}: normalised maximum depth")
+    fig.tight_layout()
+    fig.savefig(os.path.join(folder(args), f"{case}_sweep.png"), dpi=120)
+    plt.close(fig)
+
+
+def cmd_sebs(args):
+    runs, table = [], []
+    for d, v0 in pm.SEBS_FIT_CASES:
+        s, rows = run(args, "sebs", d, v0, args.n[0], f"sebs_d{1e6 * d:g}_v{v0:g}_n{args.n[0]}")
+        p_model, _ = model_depth("sebs", d, v0)
+        p_pon, _ = pm.max_depth("poncelet", pm.SEBS_PONCELET, pm.Projectile(d, pm.STEEL),
+                                pm.SEBS, v0, nose=True)
+        table.append([f"{1e6 * d:g}", f"{v0:g}", f"{1e6 * p_model:.1f}", f"{1e6 * p_pon:.1f}",
+                      f"{100 * (s['max_penetration_m'] / p_model - 1):+.1f}%"] + describe(s, d))
+        runs.append((f"{1e6 * d:g} um, {v0:g} m/s", d, v0, rows))
+    write_table(folder(args), "sebs_trajectories",
+                ["d (um)", "v0 (m/s)", "Clift-Gauvin P_max (um)", "Poncelet P_max (um)",
+                 "SPH vs Clift-Gauvin"] + HEADER, table)
+    trajectory_plot(os.path.join(folder(args), "sebs_trajectories.png"),
+                    "SEBS gel, steel spheres: SPH against modified Clift-Gauvin", runs, "sebs")
+
+
+def cmd_convergence(args):
+    case = args.case
+    d, v0 = CASES[case][5], CASES[case][6]
+    table, runs = [], []
+    for n in args.n:
+        s, rows = run(args, case, d, v0, n, f"{case}_n{n}")
+        table.append([n, f"{1e6 * d / n:.3f}"] + describe(s, d))
+        runs.append((f"d/dx = {n}", d, v0, rows))
+    write_table(folder(args), f"{case}_convergence", ["d/dx", "dx (um)"] + HEADER, table)
+    trajectory_plot(os.path.join(folder(args), f"{case}_convergence.png"),
+                    f"{case}: convergence with spacing", runs, case)
+
+
+def cmd_domain(args):
+    case = args.case
+    d, v0 = CASES[case][5], CASES[case][6]
+    table = []
+    for factor in (1.0, 2.0):
+        s, _ = run(args, case, d, v0, args.n[0], f"{case}_domain{factor:g}", domain=factor)
+        table.append([f"{16 * factor:g} d x {32 * factor:g} d"] + describe(s, d))
+    write_table(folder(args), f"{case}_domain", ["target (radius x depth)"] + HEADER, table)
+
+
+def cmd_grading(args):
+    case = args.case
+    d, v0 = CASES[case][5], CASES[case][6]
+    table, runs = [], []
+    for graded in (True, False):
+        label = "graded" if graded else "uniform"
+        s, rows = run(args, case, d, v0, args.n[0], f"{case}_{label}", graded=graded)
+        table.append([label] + describe(s, d))
+        runs.append((label, d, v0, rows))
+    write_table(folder(args), f"{case}_grading", ["lattice"] + HEADER, table)
+    trajectory_plot(os.path.join(folder(args), f"{case}_grading.png"),
+                    f"{case}: graded against uniform lattice, d/dx = {args.n[0]}", runs, case)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("command",
+                        choices=["run", "sweep", "sebs", "convergence", "domain", "grading"])
+    parser.add_argument("--case", choices=sorted(CASES), default="gelatin")
+    parser.add_argument("--d", type=float, nargs="+", help="sphere diameters, m")
+    parser.add_argument("--v0", type=float, nargs="+", help="impact velocities, m/s")
+    parser.add_argument("--n", type=int, nargs="+", help="d / dx (default 10; convergence: "
+                        "6 8 10 12 16)")
+    parser.add_argument("--set", action="append", default=[], help="extra case override")
+    parser.add_argument("--results", default=os.path.join(ROOT, "results"))
+    args = parser.parse_args()
+    if not args.n:
+        args.n = [6, 8, 10, 12, 16] if args.command == "convergence" else [10]
+    {"run": cmd_run, "sweep": cmd_sweep, "sebs": cmd_sebs, "convergence": cmd_convergence,
+     "domain": cmd_domain, "grading": cmd_grading}[args.command](args)
+
+
+if __name__ == "__main__":
+    main()
