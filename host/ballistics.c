@@ -64,6 +64,52 @@ static void model_factors(struct solver *s, const struct sph_case *c, struct pro
     p->momentum_scale = multiplicity; /* the reduction already applies the thickness */
 }
 
+/* The target's face along the impact axis u: the smallest x . u of any
+ * particle less half its spacing, m. */
+static double target_surface(const struct sph_case *c, const struct sph_scene *scene,
+                             const double axis[3])
+{
+    double surface = HUGE_VAL;
+    for (int i = 0; i < scene->count; ++i) {
+        const int level = (scene->flags[i] >> SPH_LEVEL_SHIFT) & SPH_LEVEL_MASK;
+        double along = 0;
+        for (int a = 0; a < 3; ++a)
+            along += scene->position[3 * i + a] * axis[a];
+        surface = fmin(surface, along - 0.5 * c->numerics.dx * (1 << level));
+    }
+    return surface;
+}
+
+static void impact_axis(const struct case_projectile *cp, double axis[3])
+{
+    const double speed =
+        sqrt(cp->velocity[0] * cp->velocity[0] + cp->velocity[1] * cp->velocity[1] +
+             cp->velocity[2] * cp->velocity[2]);
+    for (int a = 0; a < 3; ++a)
+        axis[a] = cp->velocity[a] / speed;
+}
+
+int projectile_check_scene(const struct sph_case *c, const struct sph_scene *scene, char *error,
+                           size_t error_size)
+{
+    const struct case_projectile *cp = &c->projectile;
+    if (!cp->enabled)
+        return 0;
+    double axis[3], along = 0;
+    impact_axis(cp, axis);
+    for (int a = 0; a < 3; ++a)
+        along += cp->centre[a] * axis[a];
+    const double radius = 0.5 * cp->diameter, surface = target_surface(c, scene, axis);
+    if (along + radius > surface + 1e-9 * radius) {
+        snprintf(error, error_size,
+                 "%s: projectile.centre: the sphere overlaps the target at t = 0 (its nose is "
+                 "%.4g m past the target's face along the impact axis); move it back",
+                 c->path, along + radius - surface);
+        return 1;
+    }
+    return 0;
+}
+
 int solver_projectile_create(struct solver *s, const struct sph_case *c,
                              const struct sph_scene *scene, char *error, size_t error_size)
 {
@@ -79,31 +125,13 @@ int solver_projectile_create(struct solver *s, const struct sph_case *c,
         sqrt(cp->velocity[0] * cp->velocity[0] + cp->velocity[1] * cp->velocity[1] +
              cp->velocity[2] * cp->velocity[2]);
     p->stiffness_speed = solver_max_sound_speed(c) + speed;
-    for (int a = 0; a < 3; ++a) {
-        p->axis[a] = cp->velocity[a] / speed;
+    impact_axis(cp, p->axis);
+    for (int a = 0; a < 3; ++a)
         p->origin[a] = cp->centre[a];
-    }
     model_factors(s, c, p);
-    p->surface = HUGE_VAL;
-    for (int i = 0; i < scene->count; ++i) {
-        const int level = (scene->flags[i] >> SPH_LEVEL_SHIFT) & SPH_LEVEL_MASK;
-        double along = 0;
-        for (int a = 0; a < 3; ++a)
-            along += scene->position[3 * i + a] * p->axis[a];
-        p->surface = fmin(p->surface, along - 0.5 * c->numerics.dx * (1 << level));
-    }
+    p->surface = target_surface(c, scene, p->axis);
     p->probe_spacing = cp->cavity_probe_spacing;
     p->probe_count = cp->cavity_probe_count;
-    double along = 0;
-    for (int a = 0; a < 3; ++a)
-        along += cp->centre[a] * p->axis[a];
-    if (along + p->radius > p->surface + 1e-9 * p->radius) {
-        snprintf(error, error_size,
-                 "%s: projectile.centre: the sphere overlaps the target at t = 0 (its nose is "
-                 "%.4g m past the target's face along the impact axis); move it back",
-                 c->path, along + p->radius - p->surface);
-        return 1;
-    }
     p->state = create_real_buffer(s, SPH_PROJ_SLOTS, error, error_size);
     p->contact_partials =
         p->state

@@ -516,6 +516,12 @@ int run_case(const struct run_options *opt)
         free(c);
         return 1;
     }
+    if (projectile_check_scene(c, &scene, error, sizeof error)) {
+        fprintf(stderr, "sph: %s\n", error);
+        scene_free(&scene);
+        free(c);
+        return 1;
+    }
     char options[512];
     solver_build_options(c, options, sizeof options);
     if (device_open(opt->device, 0, &dev, error, sizeof error)) {

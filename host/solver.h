@@ -228,6 +228,9 @@ void solver_projectile_contact(struct solver *s, double dt, double dt_prev);
 void solver_projectile_advance(struct solver *s, double dt, double dt_prev);
 void solver_projectile_read(struct solver *s, struct projectile_reading *out);
 void solver_projectile_release(struct solver *s);
+/* Before any device work: the sphere must not overlap the target at t = 0. */
+int projectile_check_scene(const struct sph_case *c, const struct sph_scene *scene, char *error,
+                           size_t error_size);
 
 /* Shared launch helpers (host/step.c). */
 void solver_launch(struct solver *s, cl_kernel k, size_t global, size_t local);
