@@ -14,7 +14,7 @@ Every run is cases/gelatin_silica.yaml or cases/sebs_steel.yaml with the
 scene scaled to the sphere (in units of its diameter d: target 16 d in
 radius and 32 d deep, spacing dx = d / n within 2.2 d of the axis and 16 d
 of the surface, doubling outwards up to 8 dx), the sphere's nose on the
-surface, and the end time 1.4 times the analytical model's time of maximum
+surface, and the end time twice the analytical model's time of maximum
 depth. The depth is the nose's depth below the undisturbed surface (the
 distance moved since contact), compared with the models' P + d/2
 (REFERENCES.md 3; tools/penetration_models.py, nose=True).
@@ -63,7 +63,7 @@ def scene_sets(case, d, v0, n, domain=1.0, graded=True):
         f"projectile.diameter={d!r}", f"projectile.centre=[0,{0.5 * d!r}]",
         f"projectile.velocity=[0,{-v0!r}]", f"numerics.dx={d / n!r}",
         f"bodies.gel.min=[0,{-max(depth, 2 * fine_depth)!r}]", f"bodies.gel.max=[{radius!r},0]",
-        f"numerics.end_time={1.4 * t_model!r}", f"output.snapshot_interval={1.4 * t_model / 20!r}",
+        f"numerics.end_time={2.0 * t_model!r}", f"output.snapshot_interval={2.0 * t_model / 20!r}",
         f"projectile.cavity_probe_spacing={d!r}",
     ]
     body_depth = max(depth, 2 * fine_depth)
