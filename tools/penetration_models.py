@@ -304,20 +304,29 @@ def _integrate(model, p, proj, target, v0):
     return sol, sol.t_events[0][0] * length / v0, sol.y_events[0][0][0] * length
 
 
-def trajectory(model, params, projectile, target, v0, t=None, nose=False, method="auto"):
-    """Depth [m] and velocity [m/s] at times t [s] (default: 501 times from
-    0 to t_stop). After t_stop the sphere is at rest at P_max. nose=True adds
-    d/2 to every depth. method: 'auto' (closed form for Poncelet, numerical
-    otherwise), 'closed' or 'numeric'. Returns (t, depth, velocity) arrays."""
+def _prepare(model, params, v0, method):
+    """The model, its checked parameters and the method ('closed' for
+    Poncelet unless asked otherwise, else 'numeric')."""
     model = _model(model)
     p = model.check(params)
     if not v0 > 0:
         raise ValueError(f"v0 must be positive (got {v0})")
     if method == "auto":
         method = "closed" if model is poncelet else "numeric"
+    if method == "closed" and model is not poncelet:
+        raise ValueError(f"{model.name} has no closed form")
+    if method not in ("closed", "numeric"):
+        raise ValueError(f"unknown method {method!r}")
+    return model, p, method
+
+
+def trajectory(model, params, projectile, target, v0, t=None, nose=False, method="auto"):
+    """Depth [m] and velocity [m/s] at times t [s] (default: 501 times from
+    0 to t_stop). After t_stop the sphere is at rest at P_max. nose=True adds
+    d/2 to every depth. method: 'auto' (closed form for Poncelet, numerical
+    otherwise), 'closed' or 'numeric'. Returns (t, depth, velocity) arrays."""
+    model, p, method = _prepare(model, params, v0, method)
     if method == "closed":
-        if model is not poncelet:
-            raise ValueError(f"{model.name} has no closed form")
         t_stop = _poncelet_constants(p, projectile, target, v0)[5]
         tt = np.linspace(0.0, t_stop, 501) if t is None else np.asarray(t, dtype=float)
         depth, velocity = _poncelet_closed(p, projectile, target, v0, tt)
@@ -339,15 +348,8 @@ def trajectory(model, params, projectile, target, v0, t=None, nose=False, method
 def max_depth(model, params, projectile, target, v0, nose=False, method="auto"):
     """(P_max [m], time of P_max [s]): depth where the sphere stops and when.
     nose=True adds d/2 (the REFERENCES.md P_max convention)."""
-    model = _model(model)
-    p = model.check(params)
-    if not v0 > 0:
-        raise ValueError(f"v0 must be positive (got {v0})")
-    if method == "auto":
-        method = "closed" if model is poncelet else "numeric"
+    model, p, method = _prepare(model, params, v0, method)
     if method == "closed":
-        if model is not poncelet:
-            raise ValueError(f"{model.name} has no closed form")
         p_max, t_stop = _poncelet_max(p, projectile, target, v0)
     elif method == "numeric":
         _, t_stop, p_max = _integrate(model, p, projectile, target, v0)

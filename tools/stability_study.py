@@ -4,7 +4,7 @@
   tools/stability_study.py [--cases tension rings beam] [--kernels ...]
                            [--stress off on] [--csph off on] [--h 1.2 1.5 2.0]
                            [--epsilon 0.3] [--set key=value ...] [--results DIR]
-                           [--reuse]
+                           [--max-wall SECONDS] [--reuse]
 
 Runs every combination of smoothing kernel x artificial stress (off, or on
 with epsilon 0.3, --epsilon to change it) x CSPH (off, on) x h/dx on each stability case and records
@@ -22,9 +22,11 @@ Cases (each at dx = 2 mm by default): tension = cases/tension_bar_2d.yaml
 bending, 2 ms).
 """
 import argparse
+import csv
 import itertools
 import json
 import os
+import subprocess
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -50,10 +52,64 @@ EPSILON = 0.3
 
 
 def verdict(s):
-    """0 healthy, 1 completed but unhealthy (clumped or torn), 2 blew up."""
+    """0 healthy, 1 completed but unhealthy (clumped or torn), 2 blew up, 3 stopped at the
+    wall-time limit (--max-wall) before its end time."""
+    if s["status"] == "stopped":
+        return 3
     if s["status"] != "completed":
         return 2
     return 0 if s.get("healthy") else 1
+
+
+def run_one(case, out, sets, max_wall):
+    """studylib.run, or with max_wall > 0 the same run stopped after max_wall seconds (a
+    beam torn apart can crawl on at a hundredth of its time step); a stopped run's row
+    comes from its history.csv and is kept in out/stopped.json for --reuse."""
+    if max_wall <= 0:
+        return studylib.run(case, out, sets, "stability_study")
+    cmd = [studylib.SPH, "run", case, "--out", out, "--quiet"]
+    for x in sets:
+        cmd += ["--set", x]
+    print("$ " + " ".join(cmd), flush=True)
+    try:
+        proc = subprocess.run(cmd, capture_output=True, text=True, timeout=max_wall)
+    except subprocess.TimeoutExpired:
+        s = from_history(out, max_wall)
+        with open(os.path.join(out, "stopped.json"), "w") as f:
+            json.dump(s, f, indent=2)
+        print(f"stopped after {max_wall:g} s wall at t = {s['end_time_s']:.4g} s: {out}",
+              flush=True)
+        return s
+    sys.stdout.write(proc.stdout)
+    if proc.returncode not in (0, 3):
+        sys.stderr.write(proc.stderr)
+        sys.exit(f"stability_study: sph exited with {proc.returncode}")
+    with open(os.path.join(out, "summary.json")) as f:
+        return json.load(f)
+
+
+def from_history(out, wall, clumped_limit=0.01):
+    """The summary keys the map needs, from history.csv of a run that was stopped: the
+    health extremes and the first row above the clumped limit (the case default)."""
+    with open(os.path.join(out, "history.csv")) as f:
+        rows = [r for r in csv.DictReader(f) if None not in r.values()]  # whole rows only
+    last = rows[-1]
+    s = {"status": "stopped", "healthy": False, "end_time_s": float(last["time_s"]),
+         "wall_time_s": wall,
+         "min_pair_distance_over_dx": min(float(r["min_pair_distance_over_dx"]) for r in rows),
+         "max_clumped_fraction": max(float(r["clumped_fraction"]) for r in rows),
+         "max_swegle_fraction": max(float(r["swegle_fraction"]) for r in rows),
+         "max_neighbour_loss_fraction": float("nan")}
+    probe = list(last)[3]  # time_s, step, dt_s, then the probe
+    if probe.endswith("_m"):
+        s[probe[:-2] + "_final_m"] = float(last[probe])
+    for r in rows:
+        if float(r["clumped_fraction"]) > clumped_limit:
+            s["first_unhealthy_time_s"] = float(r["time_s"])
+            s["unhealthy_reason"] = (f"{100 * float(r['clumped_fraction']):.1f}% of particles "
+                                     f"clumped (from history.csv; run stopped at the wall limit)")
+            break
+    return s
 
 
 def run_case(args, name):
@@ -68,11 +124,13 @@ def run_case(args, name):
                             f"numerics.artificial_stress.epsilon={epsilon}",
                             f"numerics.h_over_dx={h}"] + args.set
         out = os.path.join(folder, label)
-        if args.reuse and os.path.exists(os.path.join(out, "summary.json")):
-            with open(os.path.join(out, "summary.json")) as f:
+        done = [os.path.join(out, x) for x in ("summary.json", "stopped.json")
+                if os.path.exists(os.path.join(out, x))]
+        if args.reuse and done:
+            with open(done[0]) as f:
                 s = json.load(f)
         else:
-            s = studylib.run(os.path.join(ROOT, "cases", case), out, sets, "stability_study")
+            s = run_one(os.path.join(ROOT, "cases", case), out, sets, args.max_wall)
         grid[(kernel, stress, csph, h)] = verdict(s)
         rows.append([kernel, stress, csph, h, s["status"], s.get("healthy"),
                      s.get("first_unhealthy_time_s", ""), s.get("unhealthy_reason", ""),
@@ -99,7 +157,7 @@ def probe_final_mm(s):
 
 def plot_map(folder, name, args, grid):
     columns = list(itertools.product(args.stress, args.csph))
-    colours = ["#4caf50", "#ff9800", "#e53935"]
+    colours = ["#4caf50", "#ff9800", "#e53935", "#9e9e9e"]
     fig, axes = plt.subplots(1, len(args.h), figsize=(3.2 * len(args.h) + 1, 3.6), squeeze=False)
     for ax, h in zip(axes[0], args.h):
         for r, kernel in enumerate(args.kernels):
@@ -115,8 +173,8 @@ def plot_map(folder, name, args, grid):
         ax.set_yticklabels(args.kernels if ax is axes[0][0] else [], fontsize=7)
         ax.set_title(f"{name}, h = {h:g} dx", fontsize=9)
     handles = [plt.Rectangle((0, 0), 1, 1, color=c) for c in colours]
-    fig.legend(handles, ["healthy", "clumped / torn", "blew up"], loc="lower center", ncol=3,
-               fontsize=8)
+    fig.legend(handles, ["healthy", "clumped / torn", "blew up", "stopped (wall limit)"],
+               loc="lower center", ncol=4, fontsize=8)
     fig.tight_layout(rect=(0, 0.08, 1, 1))
     fig.savefig(os.path.join(folder, f"{name}_map.png"), dpi=110)
 
@@ -133,6 +191,9 @@ def main():
     ap.add_argument("--set", action="append", default=[], help="extra --set for every run")
     ap.add_argument("--results", default=os.path.join(ROOT, "results"),
                     help="folder for the runs and tables (default results/)")
+    ap.add_argument("--max-wall", type=float, default=0,
+                    help="stop a run after this many seconds of wall time and take its row "
+                    "from history.csv (default 0: no limit)")
     ap.add_argument("--reuse", action="store_true",
                     help="take a run whose folder already holds a summary.json from there "
                     "instead of running it again (to resume, or to redraw the tables)")
