@@ -203,15 +203,11 @@ __kernel void material_update(
      * where fragments fly apart (the explicit update crosses zero once
      * dt div v > 1) and agrees with it to first order otherwise */
     const real rho_old = m->density + density_change[i];
-    /* ... and not below rho0 / 100 (an intact fragment flung off), nor
-     * below rho0 once failed: failed material carries no tension, so where
-     * it is pulled apart it opens voids between particles instead of
-     * stretching them (left to the continuity equation, debris of a
-     * closing cavity fell to the floor and, a hundred times its volume in
-     * its neighbours' sums, blew the run up) */
-    const real floor_change = was_failed ? (real)0 : (real)-0.99 * m->density;
-    const real change =
-        fmax(density_change[i] + rho_old * expm1(dt * density_rate[i] / rho_old), floor_change);
+    /* ... and not below rho0 / 100: a failed particle flung off the
+     * target (debris, alone or in a separating pair) keeps expanding in
+     * the continuity equation until its density underflows */
+    const real change = fmax(density_change[i] + rho_old * expm1(dt * density_rate[i] / rho_old),
+                             (real)-0.99 * m->density);
     const real density = m->density + change;
     const real e_trial = energy[i] + dt * energy_rate[i];
     real p_trial = pressure_eos(m, change / m->density, e_trial);
