@@ -19,7 +19,7 @@ static const char *const source_files[] = {
     "kernels/grid.cl",       "kernels/pass1.cl",     "kernels/material_models.cl",
     "kernels/material.cl",   "kernels/pass2.cl",     "kernels/total_lagrangian.cl",
     "kernels/ghost.cl",      "kernels/integrate.cl", "kernels/reduce.cl",
-    "kernels/projectile.cl",
+    "kernels/projectile.cl", "kernels/probe.cl",
 };
 
 const char *cl_error_name(cl_int code)
@@ -304,6 +304,17 @@ static char *assemble_source(const char *source_dir, char *error, size_t error_s
     return source;
 }
 
+void device_cache_folder(char *folder, size_t size)
+{
+    const char *base = getenv("SPH_CACHE_DIR");
+    if (base && *base)
+        snprintf(folder, size, "%s", base);
+    else if (getenv("XDG_CACHE_HOME") && *getenv("XDG_CACHE_HOME"))
+        snprintf(folder, size, "%s/impact-sph", getenv("XDG_CACHE_HOME"));
+    else
+        snprintf(folder, size, "%s/.cache/impact-sph", getenv("HOME") ? getenv("HOME") : "/tmp");
+}
+
 static void cache_path(const struct sph_device *dev, const char *source, const char *options,
                        char *path, size_t size)
 {
@@ -313,19 +324,12 @@ static void cache_path(const struct sph_device *dev, const char *source, const c
     h = fnv1a(h, dev->name, strlen(dev->name));
     h = fnv1a(h, dev->driver_version, strlen(dev->driver_version));
     h = fnv1a(h, dev->platform_name, strlen(dev->platform_name));
-    const char *base = getenv("SPH_CACHE_DIR");
     char folder[1024];
-    if (base && *base)
-        snprintf(folder, sizeof folder, "%s", base);
-    else if (getenv("XDG_CACHE_HOME") && *getenv("XDG_CACHE_HOME"))
-        snprintf(folder, sizeof folder, "%s/impact-sph", getenv("XDG_CACHE_HOME"));
-    else
-        snprintf(folder, sizeof folder, "%s/.cache/impact-sph",
-                 getenv("HOME") ? getenv("HOME") : "/tmp");
+    device_cache_folder(folder, sizeof folder);
     snprintf(path, size, "%s/program-%016llx.bin", folder, (unsigned long long)h);
 }
 
-static void make_parent_dirs(const char *path)
+void device_make_parent_dirs(const char *path)
 {
     char buffer[1200];
     snprintf(buffer, sizeof buffer, "%s", path);
@@ -371,7 +375,7 @@ static void store_cached(struct sph_device *dev, const char *path)
     unsigned char *binaries[1] = {binary};
     if (binary && clGetProgramInfo(dev->program, CL_PROGRAM_BINARIES, sizeof binaries, binaries,
                                    NULL) == CL_SUCCESS) {
-        make_parent_dirs(path);
+        device_make_parent_dirs(path);
         char temporary[1200];
         snprintf(temporary, sizeof temporary, "%s.%ld.tmp", path, (long)getpid());
         FILE *f = fopen(temporary, "wb");
@@ -402,6 +406,10 @@ static void print_build_log(struct sph_device *dev, cl_program program, const ch
 int device_build(struct sph_device *dev, const char *source_dir, const char *options, char *error,
                  size_t error_size)
 {
+    if (dev->program) { /* a second case on the same device (sph bench) */
+        clReleaseProgram(dev->program);
+        dev->program = NULL;
+    }
     char *source = assemble_source(source_dir, error, error_size);
     if (!source)
         return 1;

@@ -67,6 +67,13 @@ int device_build(struct sph_device *dev, const char *source_dir, const char *opt
 
 void device_close(struct sph_device *dev);
 
+/* The user cache folder: $SPH_CACHE_DIR, else $XDG_CACHE_HOME/impact-sph,
+ * else ~/.cache/impact-sph (program binaries, device ceilings). */
+void device_cache_folder(char *folder, size_t size);
+
+/* Creates the folders above `path` (a file path). */
+void device_make_parent_dirs(const char *path);
+
 /* The folder that holds include/ and kernels/: $SPH_SOURCE_DIR if set, else
  * the source folder the program was built from. */
 const char *device_source_dir(void);

@@ -6,16 +6,18 @@
 #define SPH_LAUNCH_H
 
 #include "device.h"
+#include "profile.h"
 #include "solver.h"
 
 /* Sets the kernel's arguments from a list of (size, pointer) pairs. */
 struct arg {
     size_t size;
     const void *value;
+    int is_buffer; /* profiling counts the buffer's bytes */
 };
-#define MEM(m) ((struct arg){sizeof(cl_mem), &(m)})
-#define INT(i) ((struct arg){sizeof(cl_int), &(i)})
-#define RAW(size, p) ((struct arg){(size), (p)})
+#define MEM(m) ((struct arg){sizeof(cl_mem), &(m), 1})
+#define INT(i) ((struct arg){sizeof(cl_int), &(i), 0})
+#define RAW(size, p) ((struct arg){(size), (p), 0})
 
 /* SET_ARGS(kernel, a, b, ...) sets every argument, counting them itself. */
 #define SET_ARGS(k, ...)                                                                           \
@@ -24,8 +26,11 @@ struct arg {
 
 static inline void set_args(cl_kernel k, const struct arg *args, int count)
 {
-    for (int a = 0; a < count; ++a)
+    for (int a = 0; a < count; ++a) {
         CL_CHECK(clSetKernelArg(k, (cl_uint)a, args[a].size, args[a].value));
+        if (args[a].is_buffer && sph_profiler)
+            profile_note_buffer(*(const cl_mem *)args[a].value);
+    }
 }
 
 /* A real scalar argument in the device precision. */

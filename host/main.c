@@ -3,6 +3,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "bench.h"
 #include "device.h"
 #include "run.h"
 #include "sph_case.h"
@@ -16,11 +17,13 @@ static const char *const usage_main =
     "  run CASE    run a case file (YAML) and write a run folder\n"
     "  check CASE  validate a case file without running it\n"
     "  info        list OpenCL platforms and devices\n"
+    "  bench       time a fixed suite of scenes: throughput and per-kernel profile\n"
     "\n"
     "'sph <command> --help' describes each command.\n";
 
 static const char *const usage_run =
     "usage: sph run CASE [--out DIR] [--device D] [--set key.path=value ...] [--quiet]\n"
+    "               [--profile]\n"
     "\n"
     "  --out DIR      run folder (default runs/<case name>-<date>-<time>)\n"
     "  --device D     device index from 'sph info' or a substring of its name\n"
@@ -28,6 +31,8 @@ static const char *const usage_run =
     "  --set K=V      override a case key, e.g. --set numerics.dx=0.5e-3\n"
     "                 --set materials.steel.density=7850 --set bodies.beam.max=[0.1,0.005]\n"
     "  --quiet        no progress line\n"
+    "  --profile      time every kernel launch (OpenCL events): a per-kernel table\n"
+    "                 on stdout and profile.json in the run folder\n"
     "\n"
     "Writes case.resolved.yaml, snap_NNNNN.h5 + snapshots.xdmf (open in ParaView),\n"
     "history.csv and summary.json. Exit status: 0 completed, 1 bad input, 2 device\n"
@@ -42,6 +47,82 @@ static const char *const usage_check =
 
 static const char *const usage_info = "usage: sph info\n\nLists OpenCL platforms and devices "
                                       "with their index for --device.\n";
+
+static const char *const usage_bench =
+    "usage: sph bench [--quick | --large] [--only NAME] [--steps N] [--repeats R]\n"
+    "                 [--warmup W] [--json FILE] [--device D]\n"
+    "\n"
+    "Steps each scene of the suite N times (default 20; --quick 5) after W warm-up\n"
+    "steps (default 5; --quick 2), R times over (default 3), with every kernel\n"
+    "launch timed by OpenCL events, and prints per scene: the median time per step,\n"
+    "particle-steps/s, pair interactions/s, device memory per particle and the\n"
+    "per-kernel table (time per call, share, GB/s and GFLOP/s against the device's\n"
+    "measured ceilings, cached in the user cache folder).\n"
+    "\n"
+    "  --quick      small sizes only: a smoke test that runs in well under a minute\n"
+    "  --large      add the large sizes (3-D Taylor bar at 1M particles; for GPUs)\n"
+    "  --only NAME  the scenes whose name contains NAME (e.g. taylor3d-200k)\n"
+    "  --json FILE  write every figure as JSON (tools/bench_plot.py plots it)\n"
+    "\n"
+    "Suite: taylor3d-10k (quick), taylor3d-50k, taylor3d-200k, taylor3d-1m (large):\n"
+    "cases/taylor_3d_4340.yaml at h = 1.2 dx; gelatin-axi: cases/gelatin_silica.yaml;\n"
+    "beam2d-1k (quick), beam2d-16k: cases/beam_2d.yaml.\n";
+
+/* Parses a positive integer option value; prints the problem and returns 0
+ * when it is not one. */
+static int positive_int(const char *option, const char *text, int max, int *out)
+{
+    char *end = NULL;
+    const long v = strtol(text, &end, 10);
+    if (!end || *end || v < 1 || v > max) {
+        fprintf(stderr, "sph bench: %s expects a whole number from 1 to %d, got '%s'\n", option,
+                max, text);
+        return 0;
+    }
+    *out = (int)v;
+    return 1;
+}
+
+static int command_bench(int argc, char **argv)
+{
+    struct bench_options o = {.warmup = -1, .steps = -1, .repeats = 3};
+    for (int i = 0; i < argc; ++i) {
+        const char *a = argv[i];
+        const char *value = i + 1 < argc ? argv[i + 1] : NULL;
+        int ok = 1;
+        if (strcmp(a, "--quick") == 0)
+            o.quick = 1;
+        else if (strcmp(a, "--large") == 0)
+            o.large = 1;
+        else if (strcmp(a, "--only") == 0 && value)
+            o.only = argv[++i];
+        else if (strcmp(a, "--json") == 0 && value)
+            o.json_path = argv[++i];
+        else if (strcmp(a, "--device") == 0 && value)
+            o.device = argv[++i];
+        else if (strcmp(a, "--steps") == 0 && value)
+            ok = positive_int(a, argv[++i], 1000000, &o.steps);
+        else if (strcmp(a, "--warmup") == 0 && value)
+            ok = positive_int(a, argv[++i], 1000000, &o.warmup);
+        else if (strcmp(a, "--repeats") == 0 && value)
+            ok = positive_int(a, argv[++i], BENCH_MAX_REPEATS, &o.repeats);
+        else {
+            fprintf(stderr, "sph bench: unknown or incomplete option '%s'\n\n%s", a, usage_bench);
+            return 1;
+        }
+        if (!ok)
+            return 1;
+    }
+    if (o.quick && o.large) {
+        fprintf(stderr, "sph bench: --quick and --large exclude each other\n");
+        return 1;
+    }
+    if (o.steps < 0)
+        o.steps = o.quick ? 5 : 20;
+    if (o.warmup < 0)
+        o.warmup = o.quick ? 2 : 5;
+    return bench_main(&o);
+}
 
 static int wants_help(int argc, char **argv)
 {
@@ -70,6 +151,8 @@ static int parse_options(int argc, char **argv, struct run_options *o, char **se
             o->device = argv[++i];
         } else if (allow_run && strcmp(a, "--quiet") == 0) {
             o->quiet = 1;
+        } else if (allow_run && strcmp(a, "--profile") == 0) {
+            o->profile = 1;
         } else if (a[0] == '-' && a[1] == '-') {
             fprintf(stderr, "sph: unknown or incomplete option '%s'\n\n%s", a, usage);
             return 1;
@@ -138,6 +221,13 @@ int main(int argc, char **argv)
             return 0;
         }
         return command_check(argc - 2, argv + 2);
+    }
+    if (strcmp(command, "bench") == 0) {
+        if (wants_help(argc - 2, argv + 2)) {
+            fputs(usage_bench, stdout);
+            return 0;
+        }
+        return command_bench(argc - 2, argv + 2);
     }
     if (strcmp(command, "info") == 0) {
         if (wants_help(argc - 2, argv + 2)) {

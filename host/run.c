@@ -1,4 +1,5 @@
 /* The time loop of `sph run`: step, watch health, write outputs, report. */
+#include "profile.h"
 #include "run.h"
 
 #include <math.h>
@@ -96,6 +97,8 @@ static double total_energy(const struct loop *L);
 static int watch_health(struct loop *L, struct history_row *row)
 {
     solver_health(L->s, &row->health);
+    if (sph_profiler) /* the neighbour passes' pair count until the next row */
+        sph_profiler->pairs_per_call = row->health.neighbours_mean * L->s->n_real;
     row->energy_error =
         L->energy_scale > 0 ? (total_energy(L) - L->energy_start) / L->energy_scale : 0.0;
     const struct case_health *limit = &L->c->health;
@@ -312,8 +315,7 @@ static double total_energy(const struct loop *L)
 
 static int one_step(struct loop *L)
 {
-    /* the total Lagrangian form keeps the reference neighbours: one sort */
-    if (!L->s->total_lagrangian && L->red.max_moved >= 0.5 * L->s->skin * L->s->run.support) {
+    if (solver_needs_sort(L->s, &L->red)) {
         char error[512];
         if (solver_sort(L->s, error, sizeof error)) {
             snprintf(L->message, sizeof L->message, "unstable at step %ld, t = %.6e s: %s", L->step,
@@ -425,24 +427,34 @@ static void print_summary_line(const struct run_summary *sum, const char *folder
            sum->steps, sum->wall_time_s, sum->steps_per_s, folder);
 }
 
+/* write_history or write_snapshot, timed apart when profiling. */
+static int timed_output(struct loop *L, int (*write)(struct loop *))
+{
+    const double t0 = sph_profiler ? profile_clock() : 0;
+    const int result = write(L);
+    if (sph_profiler)
+        sph_profiler->host_output_s += profile_clock() - t0;
+    return result;
+}
+
 static int time_loop(struct loop *L)
 {
     const struct case_output *o = &L->c->output;
     while (L->t < L->c->numerics.end_time * (1 - 1e-12)) {
         if (one_step(L)) {
-            write_history(L);
-            write_snapshot(L);
+            timed_output(L, write_history);
+            timed_output(L, write_snapshot);
             return 3;
         }
         if (L->t >= L->next_history * (1 - 1e-9)) {
             L->next_history += o->history_interval;
-            if (write_history(L)) { /* unhealthy, and health.stop asks to stop */
-                write_snapshot(L);
+            if (timed_output(L, write_history)) { /* unhealthy, and health.stop asks to stop */
+                timed_output(L, write_snapshot);
                 return 3;
             }
         }
         if (L->t >= L->next_snapshot * (1 - 1e-9)) {
-            if (write_snapshot(L)) {
+            if (timed_output(L, write_snapshot)) {
                 L->status = "output_error";
                 snprintf(L->message, sizeof L->message, "a snapshot could not be written");
                 return 1;
@@ -452,8 +464,40 @@ static int time_loop(struct loop *L)
         progress(L, 0);
     }
     if (L->out->snapshot_times[L->out->snapshot_count - 1] < L->t)
-        write_snapshot(L);
+        timed_output(L, write_snapshot);
     return 0;
+}
+
+/* The per-kernel table on stdout and profile.json in the run folder.
+ * Returns non-zero when the file could not be written. */
+static int report_profile(struct profiler *p, struct sph_device *dev, long steps,
+                          const char *folder)
+{
+    profile_flush(p);
+    struct device_ceilings ceilings = {0, 0};
+    char error[256];
+    const int have_ceilings = device_ceilings(dev, &ceilings, error, sizeof error) == 0;
+    if (!have_ceilings)
+        fprintf(stderr, "sph: no device ceilings: %s\n", error);
+    printf("profile over %ld steps on %s (ceilings: %.1f GB/s copy, %.1f GFLOP/s FMA)\n", steps,
+           dev->name, ceilings.bandwidth_gb_s, ceilings.gflop_s);
+    profile_print(p, have_ceilings ? &ceilings : NULL, steps, stdout);
+    char path[SPH_PATH_MAX + 32];
+    snprintf(path, sizeof path, "%s/profile.json", folder);
+    FILE *f = fopen(path, "w");
+    if (!f) {
+        fprintf(stderr, "sph: cannot write %s\n", path);
+        return 1;
+    }
+    fprintf(f,
+            "{\n  \"device\": \"%s\",\n  \"steps\": %ld,\n  \"wall_s\": %.6g,\n"
+            "  \"output_s\": %.6g,\n  \"device_s\": %.6g,\n  \"ceiling_gb_per_s\": %.6g,\n"
+            "  \"ceiling_gflop_per_s\": %.6g,\n  \"kernels\": ",
+            dev->name, steps, p->wall_s, p->host_output_s, profile_device_seconds(p),
+            ceilings.bandwidth_gb_s, ceilings.gflop_s);
+    profile_write_json(p, steps, f);
+    fprintf(f, "\n}\n");
+    return fclose(f) != 0;
 }
 
 static void default_folder(const struct sph_case *c, char *folder, size_t size)
@@ -524,7 +568,7 @@ int run_case(const struct run_options *opt)
     }
     char options[512];
     solver_build_options(c, options, sizeof options);
-    if (device_open(opt->device, 0, &dev, error, sizeof error)) {
+    if (device_open(opt->device, opt->profile, &dev, error, sizeof error)) {
         fprintf(stderr, "sph: %s\n", error);
         scene_free(&scene);
         free(c);
@@ -566,7 +610,16 @@ int run_case(const struct run_options *opt)
                      .wall_start = wall_seconds()};
     if (output_open(&out, folder, c, scene.count, error, sizeof error) == 0 &&
         start(&L, error, sizeof error) == 0) {
+        struct profiler *profile = opt->profile ? calloc(1, sizeof *profile) : NULL;
+        sph_profiler = profile;
+        const double loop_start = profile_clock();
         code = time_loop(&L);
+        if (profile)
+            profile->wall_s = profile_clock() - loop_start;
+        sph_profiler = NULL;
+        if (profile && report_profile(profile, &dev, L.step, folder) && code == 0)
+            code = 1;
+        free(profile);
         progress(&L, 1);
         struct run_summary sum;
         finish_summary(&L, &sum);

@@ -9,6 +9,7 @@ struct run_options {
     int set_count;
     char **sets; /* "key.path=value" overrides */
     int quiet;
+    int profile; /* per-kernel table on stdout and profile.json in the run folder */
 };
 
 /* Returns the process exit status: 0 completed, 1 bad input or output

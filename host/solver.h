@@ -186,11 +186,23 @@ int solver_field_used(const struct solver *s, enum field f);
 
 /* Bytes of device memory per particle, over all per-particle buffers. */
 size_t solver_bytes_per_particle(const struct solver *s);
+/* The same, buffer by buffer (fields by name, the gather spares, the sort
+ * keys); buffers this formulation does not use are left out. */
+#define SOLVER_MAX_BUFFERS (FIELD_COUNT + ELEM_COUNT + 1)
+struct solver_memory {
+    int count;
+    const char *name[SOLVER_MAX_BUFFERS];
+    size_t bytes[SOLVER_MAX_BUFFERS]; /* per particle slot */
+};
+void solver_memory_breakdown(const struct solver *s, struct solver_memory *out);
 
 /* Re-sorts particles by cell and rebuilds the cell ranges. Returns non-zero
  * with `error` when the particles spread over more cells than the device can
  * hold (a particle left the domain). */
 int solver_sort(struct solver *s, char *error, size_t error_size);
+/* Whether a particle has moved far enough since the last sort (the
+ * reduction's max_moved against half the grid's skin) to need a new one. */
+int solver_needs_sort(const struct solver *s, const struct reduction *last);
 /* Pressure and artificial stress of the initial state (before step 1). */
 void solver_prime(struct solver *s);
 /* One leap-frog step (see kernels/integrate.cl): pass 2, kick, pass 1,

@@ -75,14 +75,33 @@ static size_t field_bytes(const struct solver *s, enum field f)
     return solver_field_used(s, f) ? s->element_size[field_table[f].kind] * (size_t)s->capacity : 0;
 }
 
+void solver_memory_breakdown(const struct solver *s, struct solver_memory *out)
+{
+    static const char *const spare_names[ELEM_COUNT] = {
+        "gather_spare_real", "gather_spare_int", "gather_spare_vector",
+        "gather_spare_symmetric_tensor", "gather_spare_tensor"};
+    out->count = 0;
+    for (int f = 0; f < FIELD_COUNT; ++f)
+        if (solver_field_used(s, (enum field)f)) {
+            out->name[out->count] = field_table[f].name;
+            out->bytes[out->count++] = s->element_size[field_table[f].kind];
+        }
+    for (int e = 0; e < ELEM_COUNT; ++e) {
+        out->name[out->count] = spare_names[e];
+        out->bytes[out->count++] = s->element_size[e];
+    }
+    out->name[out->count] = "sort_keys"; /* padded to a power of two: at most twice */
+    out->bytes[out->count++] = 2 * sizeof(cl_ulong);
+}
+
 size_t solver_bytes_per_particle(const struct solver *s)
 {
+    struct solver_memory m;
+    solver_memory_breakdown(s, &m);
     size_t bytes = 0;
-    for (int f = 0; f < FIELD_COUNT; ++f)
-        bytes += solver_field_used(s, (enum field)f) ? s->element_size[field_table[f].kind] : 0;
-    for (int e = 0; e < ELEM_COUNT; ++e)
-        bytes += s->element_size[e];     /* the gather spares */
-    return bytes + 2 * sizeof(cl_ulong); /* sort keys, padded to a power of two */
+    for (int k = 0; k < m.count; ++k)
+        bytes += m.bytes[k];
+    return bytes;
 }
 
 static cl_mem create_buffer(struct solver *s, size_t bytes)

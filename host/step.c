@@ -37,13 +37,17 @@ static void launch(struct solver *s, cl_kernel k, size_t global, size_t local)
      * far more per launch on a CPU */
     const size_t l = local ? local : LOCAL_SIZE;
     const size_t g = round_up(global ? global : 1, l);
-    const cl_int err = clEnqueueNDRangeKernel(s->dev->queue, k, 1, NULL, &g, &l, 0, NULL, NULL);
+    cl_event event = NULL;
+    const cl_int err = clEnqueueNDRangeKernel(s->dev->queue, k, 1, NULL, &g, &l, 0, NULL,
+                                              sph_profiler ? &event : NULL);
     if (err != CL_SUCCESS) {
         char name[128] = "?";
         clGetKernelInfo(k, CL_KERNEL_FUNCTION_NAME, sizeof name, name, NULL);
         fprintf(stderr, "sph: launching kernel %s (%zu work-items) failed\n", name, g);
         cl_fail("clEnqueueNDRangeKernel", err, __FILE__, __LINE__);
     }
+    if (sph_profiler)
+        profile_record(k, event);
 }
 
 cl_kernel solver_make_kernel(struct solver *s, const char *name)
@@ -327,6 +331,12 @@ int solver_sort(struct solver *s, char *error, size_t error_size)
         launch(s, s->k.neighbour_reach, (size_t)s->n, 0);
     }
     return 0;
+}
+
+int solver_needs_sort(const struct solver *s, const struct reduction *last)
+{
+    /* the total Lagrangian form keeps the reference neighbours: one sort */
+    return !s->total_lagrangian && last->max_moved >= 0.5 * s->skin * s->run.support;
 }
 
 static void pass1(struct solver *s)

@@ -1,0 +1,278 @@
+/* `sph bench`: a fixed suite of scenes at several sizes, each stepped a fixed
+ * number of times after a warm-up with every launch timed (profile.h); the
+ * median over repeats gives particle-steps and pair interactions per second.
+ * No output is written during the steps: this is the cost of the step. */
+#include "bench.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "device.h"
+#include "profile.h"
+#include "scene.h"
+#include "solver.h"
+
+#define MAX_SCENE_SETS 6
+
+enum suite_tier { TIER_QUICK = 1, TIER_STANDARD = 2, TIER_LARGE = 4 };
+
+/* The suite. The 3-D Taylor bar (a quarter with two symmetry planes) runs at
+ * h = 1.2 dx, about 55 neighbours, as the peers' benchmark does; the other
+ * scenes run their case files' numerics. Particle counts are those of the
+ * spacing given (ghosts of the symmetry planes come on top). */
+static const struct bench_scene {
+    const char *name;
+    const char *case_file; /* relative to the source folder */
+    const char *sets[MAX_SCENE_SETS];
+    int tiers;
+} suite[] = {
+    {"taylor3d-10k",
+     "cases/taylor_3d_4340.yaml",
+     {"numerics.dx=3.5e-4", "numerics.h_over_dx=1.2"},
+     TIER_QUICK},
+    {"taylor3d-50k",
+     "cases/taylor_3d_4340.yaml",
+     {"numerics.dx=2.05e-4", "numerics.h_over_dx=1.2"},
+     TIER_STANDARD},
+    {"taylor3d-200k",
+     "cases/taylor_3d_4340.yaml",
+     {"numerics.dx=1.29e-4", "numerics.h_over_dx=1.2"},
+     TIER_STANDARD},
+    {"taylor3d-1m",
+     "cases/taylor_3d_4340.yaml",
+     {"numerics.dx=7.55e-5", "numerics.h_over_dx=1.2"},
+     TIER_LARGE},
+    {"gelatin-axi", "cases/gelatin_silica.yaml", {NULL}, TIER_QUICK | TIER_STANDARD},
+    {"beam2d-1k", "cases/beam_2d.yaml", {NULL}, TIER_QUICK},
+    {"beam2d-16k", "cases/beam_2d.yaml", {"numerics.dx=0.25e-3"}, TIER_STANDARD},
+};
+
+struct scene_result {
+    const char *name;
+    int dimension, particles, slots;
+    double neighbours_mean;
+    long steps;
+    int repeats;
+    double seconds_per_step[BENCH_MAX_REPEATS];
+    double median_s;
+    size_t bytes_per_slot;
+    double device_bytes; /* every buffer's size over the real particles */
+    struct solver_memory memory;
+    struct profiler profile;
+};
+
+static double median(const double *v, int count)
+{
+    double sorted[BENCH_MAX_REPEATS];
+    memcpy(sorted, v, sizeof(double) * (size_t)count);
+    for (int a = 1; a < count; ++a)
+        for (int b = a; b > 0 && sorted[b - 1] > sorted[b]; --b) {
+            const double t = sorted[b];
+            sorted[b] = sorted[b - 1];
+            sorted[b - 1] = t;
+        }
+    return count % 2 ? sorted[count / 2] : 0.5 * (sorted[count / 2 - 1] + sorted[count / 2]);
+}
+
+/* One step as `sph run` takes it, without loads or output: re-sort when
+ * needed, the time step from the last reduction, step, reduce. */
+static int bench_step(struct solver *s, double cfl, struct reduction *red, double *dt_prev,
+                      char *error, size_t error_size)
+{
+    if (solver_needs_sort(s, red) && solver_sort(s, error, error_size))
+        return 1;
+    const double no_load[3] = {0, 0, 0};
+    const double dt = cfl * s->run.h / red->max_signal;
+    solver_step(s, dt, *dt_prev, no_load);
+    *dt_prev = dt;
+    solver_reduce(s, no_load, red);
+    if (!(red->max_signal > 0) || !isfinite(red->max_signal) || red->bad_id >= 0) {
+        snprintf(error, error_size, "the scene went unstable during the benchmark");
+        return 1;
+    }
+    return 0;
+}
+
+static int step_scene(struct solver *s, const struct sph_case *c, const struct bench_options *o,
+                      struct scene_result *r, char *error, size_t error_size)
+{
+    struct reduction red;
+    const double no_load[3] = {0, 0, 0};
+    double dt_prev = 0;
+    if (solver_sort(s, error, error_size))
+        return 1;
+    solver_prime(s);
+    solver_reduce(s, no_load, &red);
+    dt_prev = c->numerics.cfl * s->run.h / red.max_signal;
+    for (int k = 0; k < o->warmup; ++k)
+        if (bench_step(s, c->numerics.cfl, &red, &dt_prev, error, error_size))
+            return 1;
+    struct health_reading health;
+    solver_health(s, &health);
+    r->neighbours_mean = health.neighbours_mean;
+    CL_CHECK(clFinish(s->dev->queue));
+    memset(&r->profile, 0, sizeof r->profile);
+    r->profile.pairs_per_call = health.neighbours_mean * s->n_real;
+    sph_profiler = &r->profile;
+    for (int rep = 0; rep < o->repeats; ++rep) {
+        const double t0 = profile_clock();
+        for (int k = 0; k < o->steps; ++k)
+            if (bench_step(s, c->numerics.cfl, &red, &dt_prev, error, error_size)) {
+                sph_profiler = NULL;
+                return 1;
+            }
+        CL_CHECK(clFinish(s->dev->queue));
+        const double wall = profile_clock() - t0;
+        r->seconds_per_step[rep] = wall / o->steps;
+        r->profile.wall_s += wall;
+    }
+    sph_profiler = NULL;
+    profile_flush(&r->profile);
+    r->steps = (long)o->steps * o->repeats;
+    r->repeats = o->repeats;
+    r->median_s = median(r->seconds_per_step, o->repeats);
+    return 0;
+}
+
+static int run_scene(struct sph_device *dev, const struct bench_scene *b,
+                     const struct bench_options *o, struct scene_result *r, char *error,
+                     size_t error_size)
+{
+    char path[2048];
+    snprintf(path, sizeof path, "%s/%s", device_source_dir(), b->case_file);
+    int set_count = 0;
+    while (set_count < MAX_SCENE_SETS && b->sets[set_count])
+        ++set_count;
+    struct sph_case *c = calloc(1, sizeof *c);
+    struct sph_scene scene;
+    struct solver s;
+    char options[512];
+    int failed = case_load(path, set_count, (char *const *)b->sets, c, error, error_size) ||
+                 scene_build(c, &scene, error, error_size);
+    if (failed) {
+        free(c);
+        return 1;
+    }
+    solver_build_options(c, options, sizeof options);
+    failed = device_build(dev, device_source_dir(), options, error, error_size) ||
+             solver_create(&s, dev, c, &scene, error, error_size);
+    if (!failed) {
+        r->name = b->name;
+        r->dimension = c->dimension;
+        r->particles = s.n_real;
+        r->slots = s.capacity;
+        r->bytes_per_slot = solver_bytes_per_particle(&s);
+        solver_memory_breakdown(&s, &r->memory);
+        r->device_bytes = (double)r->bytes_per_slot * s.capacity;
+        fprintf(stderr, "sph bench: %s: %d particles (%d slots with ghosts), %d-D ...\n", b->name,
+                s.n_real, s.capacity, c->dimension);
+        failed = step_scene(&s, c, o, r, error, error_size);
+        solver_release(&s);
+    }
+    scene_free(&scene);
+    free(c);
+    return failed;
+}
+
+static void print_scene(const struct scene_result *r, const struct device_ceilings *ceil)
+{
+    const double pairs = r->neighbours_mean * r->particles;
+    printf("\n%s: %d particles, %.1f neighbours, %d x %ld steps: %.3f ms/step (median), "
+           "%.3g particle-steps/s, %.3g pair interactions/s, %.0f B/particle of device "
+           "memory\n",
+           r->name, r->particles, r->neighbours_mean, r->repeats, r->steps / r->repeats,
+           1e3 * r->median_s, r->particles / r->median_s, pairs / r->median_s,
+           r->device_bytes / r->particles);
+    profile_print(&r->profile, ceil, r->steps, stdout);
+}
+
+/* Bytes per particle slot of each device buffer. */
+static void write_memory_json(const struct solver_memory *m, FILE *f)
+{
+    fprintf(f, "{");
+    for (int k = 0; k < m->count; ++k)
+        fprintf(f, "%s\"%s\": %zu", k ? ", " : "", m->name[k], m->bytes[k]);
+    fprintf(f, "}");
+}
+
+static void write_scene_json(const struct scene_result *r, FILE *f)
+{
+    const double pairs = r->neighbours_mean * r->particles;
+    fprintf(f,
+            "    {\"name\": \"%s\", \"dimension\": %d, \"particles\": %d, \"slots\": %d, "
+            "\"neighbours_mean\": %.4g, \"steps\": %ld, \"repeats\": %d,\n     "
+            "\"seconds_per_step\": [",
+            r->name, r->dimension, r->particles, r->slots, r->neighbours_mean,
+            r->steps / r->repeats, r->repeats);
+    for (int k = 0; k < r->repeats; ++k)
+        fprintf(f, "%s%.6g", k ? ", " : "", r->seconds_per_step[k]);
+    fprintf(f,
+            "], \"median_seconds_per_step\": %.6g, \"particle_steps_per_s\": %.6g, "
+            "\"pair_interactions_per_s\": %.6g,\n     \"bytes_per_particle\": %.1f, "
+            "\"bytes_per_slot\": %zu, \"memory_bytes_per_slot\": ",
+            r->median_s, r->particles / r->median_s, pairs / r->median_s,
+            r->device_bytes / r->particles, r->bytes_per_slot);
+    write_memory_json(&r->memory, f);
+    fprintf(f,
+            ",\n     \"wall_s\": %.6g, \"device_s\": %.6g,\n     \"kernels\": ", r->profile.wall_s,
+            profile_device_seconds(&r->profile));
+    profile_write_json(&r->profile, r->steps, f);
+    fprintf(f, "}");
+}
+
+int bench_main(const struct bench_options *o)
+{
+    struct sph_device dev;
+    char error[SPH_ERROR_MAX] = "";
+    if (device_open(o->device, 1, &dev, error, sizeof error)) {
+        fprintf(stderr, "sph bench: %s\n", error);
+        return 2;
+    }
+    const int tier = o->quick ? TIER_QUICK : TIER_STANDARD | (o->large ? TIER_LARGE : 0);
+    const int count = (int)(sizeof suite / sizeof suite[0]);
+    struct scene_result *results = calloc((size_t)count, sizeof *results);
+    struct device_ceilings ceil = {0, 0};
+    int done = 0, code = 0, have_ceilings = 0;
+    for (int k = 0; k < count && code == 0; ++k) {
+        if (!(suite[k].tiers & tier) || (o->only && !strstr(suite[k].name, o->only)))
+            continue;
+        if (run_scene(&dev, &suite[k], o, &results[done], error, sizeof error)) {
+            fprintf(stderr, "sph bench: %s: %s\n", suite[k].name, error);
+            code = 2;
+            break;
+        }
+        if (!have_ceilings) /* the probe kernels are in every program */
+            have_ceilings = device_ceilings(&dev, &ceil, error, sizeof error) == 0;
+        print_scene(&results[done], have_ceilings ? &ceil : NULL);
+        ++done;
+    }
+    if (done == 0 && code == 0) {
+        fprintf(stderr, "sph bench: no scene matches '%s'\n", o->only ? o->only : "");
+        code = 1;
+    }
+    if (code == 0 && o->json_path) {
+        FILE *f = fopen(o->json_path, "w");
+        if (!f) {
+            fprintf(stderr, "sph bench: cannot write %s\n", o->json_path);
+            code = 1;
+        } else {
+            fprintf(f,
+                    "{\n  \"device\": \"%s\",\n  \"ceiling_gb_per_s\": %.6g,\n"
+                    "  \"ceiling_gflop_per_s\": %.6g,\n  \"warmup_steps\": %d,\n  \"scenes\": [\n",
+                    dev.name, ceil.bandwidth_gb_s, ceil.gflop_s, o->warmup);
+            for (int k = 0; k < done; ++k) {
+                write_scene_json(&results[k], f);
+                fprintf(f, "%s\n", k + 1 < done ? "," : "");
+            }
+            fprintf(f, "  ]\n}\n");
+            if (fclose(f) != 0)
+                code = 1;
+            else
+                fprintf(stderr, "sph bench: wrote %s\n", o->json_path);
+        }
+    }
+    free(results);
+    device_close(&dev);
+    return code;
+}
