@@ -10,6 +10,8 @@ struct bench_options {
     const char *only;      /* NULL, or run the scenes whose name contains it */
     int quick, large;      /* the quick tier (a smoke test); add the large sizes */
     int warmup, steps, repeats;
+    int set_count;
+    char **sets; /* --set overrides applied to every scene */
 };
 
 /* Returns the exit status: 0, 1 bad options or output error, 2 device error

@@ -65,13 +65,13 @@ static int in_level_box(const struct grading_frame *g, int k, const double *t)
     return 1;
 }
 
-/* Grid cells (sized for the finest level: support (1 + skin)) a level-k
+/* Grid cells (sized for the finest level: support (1 + skin) / SPH_GRID_SPLIT) a level-k
  * particle searches among its own level; kernels/grid.cl
  * (grid_neighbour_reach) widens it at every sort where a coarser level is
  * near. */
 static int search_reach(int k, double skin)
 {
-    return (int)ceil(((double)(1 << k) + skin) / (1.0 + skin) - 1e-9);
+    return (int)ceil(SPH_GRID_SPLIT * ((double)(1 << k) + skin) / (1.0 + skin) - 1e-9);
 }
 
 int grading_fill(const struct sph_case *c, const struct case_body *b, struct sph_particle_sink *out)

@@ -50,7 +50,7 @@ static const char *const usage_info = "usage: sph info\n\nLists OpenCL platforms
 
 static const char *const usage_bench =
     "usage: sph bench [--quick | --large] [--only NAME] [--steps N] [--repeats R]\n"
-    "                 [--warmup W] [--json FILE] [--device D]\n"
+    "                 [--warmup W] [--json FILE] [--device D] [--set key.path=value ...]\n"
     "\n"
     "Steps each scene of the suite N times (default 20; --quick 5) after W warm-up\n"
     "steps (default 5; --quick 2), R times over (default 3), with every kernel\n"
@@ -63,6 +63,8 @@ static const char *const usage_bench =
     "  --large      add the large sizes (3-D Taylor bar at 1M particles; for GPUs)\n"
     "  --only NAME  the scenes whose name contains NAME (e.g. taylor3d-200k)\n"
     "  --json FILE  write every figure as JSON (tools/bench_plot.py plots it)\n"
+    "  --set K=V    override a case key in every scene, e.g. to compare\n"
+    "               --set numerics.neighbour_loop=plain or --set numerics.precision=double\n"
     "\n"
     "Suite: taylor3d-10k (quick), taylor3d-50k, taylor3d-200k, taylor3d-1m (large):\n"
     "cases/taylor_3d_4340.yaml at h = 1.2 dx; gelatin-axi: cases/gelatin_silica.yaml;\n"
@@ -85,7 +87,8 @@ static int positive_int(const char *option, const char *text, int max, int *out)
 
 static int command_bench(int argc, char **argv)
 {
-    struct bench_options o = {.warmup = -1, .steps = -1, .repeats = 3};
+    char *sets[MAX_SETS];
+    struct bench_options o = {.warmup = -1, .steps = -1, .repeats = 3, .sets = sets};
     for (int i = 0; i < argc; ++i) {
         const char *a = argv[i];
         const char *value = i + 1 < argc ? argv[i + 1] : NULL;
@@ -100,6 +103,8 @@ static int command_bench(int argc, char **argv)
             o.json_path = argv[++i];
         else if (strcmp(a, "--device") == 0 && value)
             o.device = argv[++i];
+        else if (strcmp(a, "--set") == 0 && value && o.set_count < MAX_SETS)
+            sets[o.set_count++] = argv[++i];
         else if (strcmp(a, "--steps") == 0 && value)
             ok = positive_int(a, argv[++i], 1000000, &o.steps);
         else if (strcmp(a, "--warmup") == 0 && value)

@@ -150,12 +150,14 @@ struct solver {
     int n_real;   /* real particles; n = n_real + ghosts.count slots in use */
     int capacity; /* slots in every field buffer */
     struct ghosts ghosts;
-    int total_lagrangian; /* numerics.formulation; the grid is then sorted once */
-    int graded;           /* some body has a graded lattice (SPH_GRADED) */
-    double dx;            /* lattice spacing, m */
+    int total_lagrangian;        /* numerics.formulation; the grid is then sorted once */
+    int graded;                  /* some body has a graded lattice (SPH_GRADED) */
+    int lanes;                   /* particles per work-item of passes 1 and 2 (solver_lanes) */
+    int csph, artificial_stress; /* the corrections in use: their fields exist */
+    double dx;                   /* lattice spacing, m */
     size_t element_size[ELEM_COUNT];
     cl_mem field[FIELD_COUNT];
-    cl_mem spare[ELEM_COUNT];
+    cl_mem gather_spare; /* one field of the largest element: the gather target */
     cl_mem sort_keys, cell_start, cell_end, partials, bounds_partials, materials, run_params;
     cl_mem walls; /* struct sph_wall[wall_count] (at least one entry's worth) */
     int wall_count;
@@ -172,6 +174,11 @@ struct solver {
 /* The largest longitudinal sound speed over the case's materials, m/s. */
 double solver_max_sound_speed(const struct sph_case *c);
 
+/* Particles per work-item of the lane passes (kernels/lanes.cl), or 0 where
+ * the plain passes run: numerics.neighbour_loop plain, graded lattices,
+ * axisymmetric cases and the total Lagrangian form. */
+#define SPH_LANES_DEFAULT 8
+int solver_lanes(const struct sph_case *c);
 /* -D options for the program from the case. */
 void solver_build_options(const struct sph_case *c, char *options, size_t size);
 
@@ -186,7 +193,7 @@ int solver_field_used(const struct solver *s, enum field f);
 
 /* Bytes of device memory per particle, over all per-particle buffers. */
 size_t solver_bytes_per_particle(const struct solver *s);
-/* The same, buffer by buffer (fields by name, the gather spares, the sort
+/* The same, buffer by buffer (fields by name, the gather spare, the sort
  * keys); buffers this formulation does not use are left out. */
 #define SOLVER_MAX_BUFFERS (FIELD_COUNT + ELEM_COUNT + 1)
 struct solver_memory {

@@ -36,6 +36,17 @@ const struct field_info field_table[FIELD_COUNT] = {
     [FIELD_WALL_FORCE] = {"wall_force", ELEM_VEC, MIRROR_NONE},
 };
 
+int solver_lanes(const struct sph_case *c)
+{
+    int graded = 0;
+    for (int b = 0; b < c->body_count; ++b)
+        graded |= c->bodies[b].grading.enabled;
+    const int axisymmetric = c->dimension == 2 && c->plane == SPH_PLANE_AXISYMMETRIC;
+    return c->numerics.plain_loops || graded || axisymmetric || c->numerics.total_lagrangian
+               ? 0
+               : SPH_LANES_DEFAULT;
+}
+
 void solver_build_options(const struct sph_case *c, char *options, size_t size)
 {
     const struct case_numerics *num = &c->numerics;
@@ -61,13 +72,35 @@ void solver_build_options(const struct sph_case *c, char *options, size_t size)
              num->xsph_epsilon > 0 ? " -DSPH_XSPH" : "", plastic ? " -DSPH_PLASTICITY" : "",
              num->double_precision ? " -DSPH_DOUBLE" : "",
              num->total_lagrangian ? " -DSPH_TOTAL_LAGRANGIAN" : "");
+    {
+        const size_t used = strlen(options);
+        snprintf(options + used, size - used, " -DSPH_GRID_SPLIT=%d", SPH_GRID_SPLIT);
+    }
+    if (solver_lanes(c)) {
+        const size_t used = strlen(options);
+        snprintf(options + used, size - used, " -DSPH_LANES=%d", solver_lanes(c));
+    }
+    /* kernel developers' experiments: extra -D or -cl-* options */
+    const char *extra = getenv("SPH_BUILD_OPTIONS");
+    if (extra && *extra) {
+        const size_t used = strlen(options);
+        snprintf(options + used, size - used, " %s", extra);
+    }
 }
 
 int solver_field_used(const struct solver *s, enum field f)
 {
-    if (f == FIELD_DEFORMATION_GRADIENT || f == FIELD_FIRST_PIOLA)
+    switch (f) {
+    case FIELD_DEFORMATION_GRADIENT:
+    case FIELD_FIRST_PIOLA:
         return s->total_lagrangian;
-    return 1;
+    case FIELD_CSPH: /* the total Lagrangian form keeps its correction there */
+        return s->csph || s->total_lagrangian;
+    case FIELD_ARTIFICIAL_STRESS:
+        return s->artificial_stress;
+    default:
+        return 1;
+    }
 }
 
 static size_t field_bytes(const struct solver *s, enum field f)
@@ -77,19 +110,14 @@ static size_t field_bytes(const struct solver *s, enum field f)
 
 void solver_memory_breakdown(const struct solver *s, struct solver_memory *out)
 {
-    static const char *const spare_names[ELEM_COUNT] = {
-        "gather_spare_real", "gather_spare_int", "gather_spare_vector",
-        "gather_spare_symmetric_tensor", "gather_spare_tensor"};
     out->count = 0;
     for (int f = 0; f < FIELD_COUNT; ++f)
         if (solver_field_used(s, (enum field)f)) {
             out->name[out->count] = field_table[f].name;
             out->bytes[out->count++] = s->element_size[field_table[f].kind];
         }
-    for (int e = 0; e < ELEM_COUNT; ++e) {
-        out->name[out->count] = spare_names[e];
-        out->bytes[out->count++] = s->element_size[e];
-    }
+    out->name[out->count] = "gather_spare";
+    out->bytes[out->count++] = s->element_size[ELEM_FULLT]; /* the largest element */
     out->name[out->count] = "sort_keys"; /* padded to a power of two: at most twice */
     out->bytes[out->count++] = 2 * sizeof(cl_ulong);
 }
@@ -317,8 +345,7 @@ int solver_create_buffers(struct solver *s, const struct sph_case *c, const stru
     }
     for (int f = 0; f < FIELD_COUNT; ++f)
         s->field[f] = create_buffer(s, field_bytes(s, (enum field)f));
-    for (int e = 0; e < ELEM_COUNT; ++e)
-        s->spare[e] = create_buffer(s, s->element_size[e] * (size_t)s->capacity);
+    s->gather_spare = create_buffer(s, s->element_size[ELEM_FULLT] * (size_t)s->capacity);
     s->sort_keys = create_buffer(s, sizeof(cl_ulong) * (size_t)s->padded_n);
     s->partials = create_buffer(s, s->element_size[ELEM_REAL] * SPH_RED_SLOTS * s->reduce_groups);
     s->bounds_partials = create_buffer(s, s->element_size[ELEM_REAL] * 6 * s->reduce_groups);
@@ -376,8 +403,7 @@ void solver_release_buffers(struct solver *s)
 {
     for (int f = 0; f < FIELD_COUNT; ++f)
         release(&s->field[f]);
-    for (int e = 0; e < ELEM_COUNT; ++e)
-        release(&s->spare[e]);
+    release(&s->gather_spare);
     release(&s->sort_keys);
     release(&s->cell_start);
     release(&s->cell_end);

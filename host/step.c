@@ -74,9 +74,9 @@ static void create_kernels(struct solver *s)
     k->gather[ELEM_VEC] = make_kernel(s, "grid_gather_vec");
     k->gather[ELEM_SYMT] = make_kernel(s, "grid_gather_symt");
     k->gather[ELEM_FULLT] = make_kernel(s, "grid_gather_fullt");
-    k->pass1 = make_kernel(s, "pass1_velocity_gradient");
+    k->pass1 = make_kernel(s, s->lanes ? "pass1_lanes" : "pass1_velocity_gradient");
     k->material = make_kernel(s, "material_update");
-    k->pass2 = make_kernel(s, "pass2_momentum_energy");
+    k->pass2 = make_kernel(s, s->lanes ? "pass2_lanes" : "pass2_momentum_energy");
     k->kick = make_kernel(s, "integrate_kick");
     k->drift = make_kernel(s, "integrate_drift");
     k->reduce = make_kernel(s, "reduce_step");
@@ -144,6 +144,9 @@ int solver_create(struct solver *s, struct sph_device *dev, const struct sph_cas
     s->n = scene->count;
     s->double_precision = c->numerics.double_precision;
     s->total_lagrangian = c->numerics.total_lagrangian;
+    s->lanes = solver_lanes(c);
+    s->csph = c->numerics.csph;
+    s->artificial_stress = c->numerics.as_epsilon > 0;
     for (int b = 0; b < c->body_count; ++b)
         s->graded |= c->bodies[b].grading.enabled;
     s->dx = c->numerics.dx;
@@ -213,7 +216,7 @@ static int layout_grid(struct solver *s, char *error, size_t error_size)
     double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
     read_bounds(s, lo, hi);
     struct grid *g = &s->grid;
-    g->cell_size = s->run.support * (1.0 + s->skin);
+    g->cell_size = s->run.support * (1.0 + s->skin) / SPH_GRID_SPLIT;
     double cells = 1;
     for (int a = 0; a < 3; ++a) {
         if (a < s->dim) {
@@ -293,12 +296,14 @@ void solver_gather_persistent(struct solver *s)
         if (!solver_field_used(s, (enum field)f))
             continue;
         const enum element_kind kind = field_table[f].kind;
-        SET_ARGS(s->k.gather[kind], MEM(s->sort_keys), MEM(s->field[f]), MEM(s->spare[kind]),
+        SET_ARGS(s->k.gather[kind], MEM(s->sort_keys), MEM(s->field[f]), MEM(s->gather_spare),
                  INT(s->n));
         launch(s, s->k.gather[kind], (size_t)s->n, 0);
-        cl_mem swap = s->field[f];
-        s->field[f] = s->spare[kind];
-        s->spare[kind] = swap;
+        /* one spare for every field (not one per element kind, swapped in):
+         * the copy back costs a read and a write per sort, the spares
+         * would cost 56 B per particle in 3-D */
+        CL_CHECK(clEnqueueCopyBuffer(s->dev->queue, s->gather_spare, s->field[f], 0, 0,
+                                     s->element_size[kind] * (size_t)s->n, 0, NULL, NULL));
     }
 }
 
@@ -339,6 +344,12 @@ int solver_needs_sort(const struct solver *s, const struct reduction *last)
     return !s->total_lagrangian && last->max_moved >= 0.5 * s->skin * s->run.support;
 }
 
+/* Work-items of passes 1 and 2: one per particle, or per lane block. */
+static size_t pass_items(const struct solver *s)
+{
+    return s->lanes ? ((size_t)s->n + (size_t)s->lanes - 1) / (size_t)s->lanes : (size_t)s->n;
+}
+
 static void pass1(struct solver *s)
 {
     cl_mem *f = s->field;
@@ -348,7 +359,7 @@ static void pass1(struct solver *s)
              GRID_ARG_LIST(s, dims), MEM(s->materials), MEM(s->run_params),
              MEM(f[FIELD_VELOCITY_GRADIENT]), MEM(f[FIELD_DENSITY_RATE]), MEM(f[FIELD_CSPH]),
              INT(s->n));
-    launch(s, s->k.pass1, (size_t)s->n, 0);
+    launch(s, s->k.pass1, pass_items(s), 0);
 }
 
 static void material(struct solver *s, double dt)
@@ -374,7 +385,7 @@ static void pass2(struct solver *s)
              MEM(f[FIELD_FLAGS]), GRID_ARG_LIST(s, dims), MEM(s->materials), MEM(s->run_params),
              MEM(f[FIELD_ACCELERATION]), MEM(f[FIELD_ENERGY_RATE]), MEM(f[FIELD_XSPH_VELOCITY]),
              INT(s->n));
-    launch(s, s->k.pass2, (size_t)s->n, 0);
+    launch(s, s->k.pass2, pass_items(s), 0);
 }
 
 /* Total Lagrangian passes (kernels/total_lagrangian.cl). */
@@ -579,10 +590,10 @@ void solver_neighbour_counts(struct solver *s, int *count_by_id)
     const cl_int4 dims = {{s->grid.dims[0], s->grid.dims[1], s->grid.dims[2], 0}};
     SET_ARGS(s->k.neighbour_count, MEM(s->field[FIELD_POS]), MEM(s->field[FIELD_POS0]),
              MEM(s->field[FIELD_FLAGS]), GRID_ARG_LIST(s, dims), MEM(s->run_params),
-             MEM(s->spare[ELEM_INT]), INT(s->n));
+             MEM(s->gather_spare), INT(s->n));
     launch(s, s->k.neighbour_count, (size_t)s->n, 0);
     int *count = malloc(sizeof(int) * (size_t)s->n), *id = malloc(sizeof(int) * (size_t)s->n);
-    CL_CHECK(clEnqueueReadBuffer(s->dev->queue, s->spare[ELEM_INT], CL_TRUE, 0,
+    CL_CHECK(clEnqueueReadBuffer(s->dev->queue, s->gather_spare, CL_TRUE, 0,
                                  sizeof(int) * (size_t)s->n, count, 0, NULL, NULL));
     CL_CHECK(clEnqueueReadBuffer(s->dev->queue, s->field[FIELD_ID], CL_TRUE, 0,
                                  sizeof(int) * (size_t)s->n, id, 0, NULL, NULL));

@@ -149,6 +149,7 @@ struct case_numerics {
     double end_time;             /* s, required */
     double damping;              /* 1/s, default 0 */
     int double_precision;        /* default 0 */
+    int plain_loops;             /* neighbour_loop: 0 lanes (default, where it applies), 1 plain */
 };
 
 /* A rigid plane: particles stay on the side the normal points to, their

@@ -60,10 +60,19 @@ enum sph_flag {
 
 /* Graded lattices (host/scene.c): bits 8-11 of a particle's flags hold its
  * spacing level k (spacing 2^k numerics.dx, smoothing length 2^k h) and
- * bits 12-19 how many grid cells its neighbour search reaches (1 on a
- * uniform lattice). */
+ * bits 12-19 how many grid cells its neighbour search reaches
+ * (SPH_GRID_SPLIT on a uniform lattice). */
 #define SPH_LEVEL_SHIFT 8
 #define SPH_LEVEL_MASK 15
+/* Grid cells per support (1 + skin): a particle on a uniform lattice
+ * searches SPH_GRID_SPLIT cells each way. Finer cells test fewer
+ * candidates per neighbour (3-D: about 11 at 1, 6.4 at 2, 5.2 at 3) for
+ * more cell lookups and, in the lane passes, wider boxes around a lane
+ * block; measured on the 3-D Taylor bar, 1 is as fast as 2 and faster than
+ * 3 (docs/performance.md). */
+#ifndef SPH_GRID_SPLIT /* the host passes its own value to the kernels */
+#define SPH_GRID_SPLIT 1
+#endif
 #define SPH_REACH_SHIFT 12
 #define SPH_REACH_MASK 255
 

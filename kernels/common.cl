@@ -94,7 +94,9 @@ static inline symt symt_store(real t[3][3])
 
 static inline void fullt_load(fullt f, real t[3][3])
 {
+#pragma unroll
     for (int a = 0; a < 3; ++a)
+#pragma unroll
         for (int b = 0; b < 3; ++b)
             t[a][b] = 0;
 #if SPH_DIM == 2
@@ -135,9 +137,10 @@ static inline real spacing_scale(int flag)
 /* The neighbour grid as the passes see it: cells of edge `cell_size` from
  * `origin`, `dims` cells per axis, particles sorted by cell, and each
  * particle's cell (from its position at the last sort) in the high half of
- * its sort key. Cells are at least support * (1 + skin) wide and the grid is
- * re-sorted before any particle moves skin * support / 2, so every neighbour
- * within the support lies in the 3^d cells around the sort-time cell. */
+ * its sort key. Cells are support * (1 + skin) / SPH_GRID_SPLIT wide and the
+ * grid is re-sorted before any particle moves skin * support / 2, so every
+ * neighbour within the support lies in the (2 SPH_GRID_SPLIT + 1)^d cells
+ * around the sort-time cell. */
 #define GRID_ARGS                                                                                  \
     __global const ulong *restrict sort_keys, __global const int *restrict cell_start,             \
         __global const int *restrict cell_end, const int4 grid_dims
@@ -170,7 +173,7 @@ static inline int4 grid_cell_coords(int cell, int4 dims)
 #define NEIGHBOUR_REACH(i) ((flags[i] >> SPH_REACH_SHIFT) & SPH_REACH_MASK)
 #else
 #define PAIR_H(i, j) (run->h)
-#define NEIGHBOUR_REACH(i) 1
+#define NEIGHBOUR_REACH(i) SPH_GRID_SPLIT
 #endif
 
 /* FOR_EACH_NEIGHBOUR(i, j) { ... } END_FOR_EACH_NEIGHBOUR visits every j in
@@ -218,7 +221,9 @@ static inline int4 grid_cell_coords(int cell, int4 dims)
  * nearly singular (isolated particles, a line of particles). */
 static inline void matrix_invert_or_identity(real b[3][3], real c[3][3])
 {
+#pragma unroll
     for (int a = 0; a < 3; ++a)
+#pragma unroll
         for (int e = 0; e < 3; ++e)
             c[a][e] = a == e ? (real)1 : (real)0;
 #if SPH_DIM == 2

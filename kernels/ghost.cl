@@ -89,6 +89,7 @@ __kernel void ghost_refresh_vec(__global vec *restrict field, GHOST_ARGS, const 
     GHOST_SLOTS;
     const real planes[3] = {plane.x, plane.y, plane.z};
     real c[3];
+#pragma unroll
     for (int a = 0; a < 3; ++a) {
         c[a] = vec_get(field[src], a);
         if ((mask >> a) & 1)
@@ -102,7 +103,9 @@ __kernel void ghost_refresh_symt(__global symt *restrict field, GHOST_ARGS)
     GHOST_SLOTS;
     real t[3][3];
     symt_load(field[src], t);
+#pragma unroll
     for (int a = 0; a < 3; ++a)
+#pragma unroll
         for (int b = 0; b < 3; ++b)
             t[a][b] *= ghost_sign(mask, a) * ghost_sign(mask, b);
     field[dst] = symt_store(t);
@@ -113,7 +116,9 @@ __kernel void ghost_refresh_fullt(__global fullt *restrict field, GHOST_ARGS)
     GHOST_SLOTS;
     real t[3][3];
     fullt_load(field[src], t);
+#pragma unroll
     for (int a = 0; a < 3; ++a)
+#pragma unroll
         for (int b = 0; b < 3; ++b)
             t[a][b] *= ghost_sign(mask, a) * ghost_sign(mask, b);
     field[dst] = fullt_store(t);

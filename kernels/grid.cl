@@ -144,7 +144,7 @@ __kernel void grid_neighbour_list(__global const vec *restrict pos, __global con
         return;
     const vec pi = pos[i];
     int c = 0;
-    FOR_EACH_NEIGHBOUR_WITHIN(i, j, 1)
+    FOR_EACH_NEIGHBOUR_WITHIN(i, j, SPH_GRID_SPLIT)
     {
         const vec d = pi - pos[j];
         if (j != i && dot(d, d) < radius * radius) {
@@ -167,7 +167,7 @@ __kernel void grid_neighbour_list(__global const vec *restrict pos, __global con
  * fine particles outwards). reads pos, flags; updates flags. */
 static inline int reach_cells(real h_over_h0, real skin)
 {
-    return (int)ceil((h_over_h0 + skin) / ((real)1 + skin) - (real)1e-6);
+    return (int)ceil(SPH_GRID_SPLIT * (h_over_h0 + skin) / ((real)1 + skin) - (real)1e-6);
 }
 
 __kernel void grid_neighbour_reach(__global const vec *restrict pos, __global int *restrict flags,

@@ -20,7 +20,9 @@
  * from sigma_zz = 0 for Hooke's law: D_zz = -nu/(1-nu) (D_xx + D_yy). */
 static inline void strain_rate_and_spin(real l[3][3], real nu_factor, real d[3][3], real w[3][3])
 {
+#pragma unroll
     for (int a = 0; a < 3; ++a)
+#pragma unroll
         for (int b = 0; b < 3; ++b) {
             d[a][b] = (real)0.5 * (l[a][b] + l[b][a]);
             w[a][b] = (real)0.5 * (l[a][b] - l[b][a]);
@@ -38,9 +40,12 @@ static inline void jaumann_stress_rate(real s[3][3], real d[3][3], real w[3][3],
                                        real rate[3][3])
 {
     const real trace_third = (d[0][0] + d[1][1] + d[2][2]) / (real)3;
+#pragma unroll
     for (int a = 0; a < 3; ++a)
+#pragma unroll
         for (int b = 0; b < 3; ++b) {
             real rotation = 0;
+#pragma unroll
             for (int e = 0; e < 3; ++e)
                 rotation += w[a][e] * s[e][b] - s[a][e] * w[e][b];
             rate[a][b] =
@@ -54,7 +59,9 @@ static inline void jaumann_stress_rate(real s[3][3], real d[3][3], real w[3][3],
  * columns. Six sweeps reach float round-off for any input. */
 static inline void symmetric_eigen(real t[3][3], real v[3][3])
 {
+#pragma unroll
     for (int a = 0; a < 3; ++a)
+#pragma unroll
         for (int b = 0; b < 3; ++b)
             v[a][b] = a == b ? (real)1 : (real)0;
     for (int sweep = 0; sweep < 6; ++sweep)
@@ -66,16 +73,19 @@ static inline void symmetric_eigen(real t[3][3], real v[3][3])
                 const real tan_phi = (theta >= 0 ? (real)1 : (real)-1) /
                                      (fabs(theta) + sqrt(theta * theta + (real)1));
                 const real c = (real)1 / sqrt(tan_phi * tan_phi + (real)1), s = tan_phi * c;
+#pragma unroll
                 for (int k = 0; k < 3; ++k) { /* t <- t J */
                     const real tkp = t[k][p], tkq = t[k][q];
                     t[k][p] = c * tkp - s * tkq;
                     t[k][q] = s * tkp + c * tkq;
                 }
+#pragma unroll
                 for (int k = 0; k < 3; ++k) { /* t <- J^T t */
                     const real tpk = t[p][k], tqk = t[q][k];
                     t[p][k] = c * tpk - s * tqk;
                     t[q][k] = s * tpk + c * tqk;
                 }
+#pragma unroll
                 for (int k = 0; k < 3; ++k) {
                     const real vkp = v[k][p], vkq = v[k][q];
                     v[k][p] = c * vkp - s * vkq;
@@ -92,14 +102,19 @@ static inline void artificial_stress_tensor(real sigma[3][3], real density, real
 {
     real t[3][3], v[3][3];
     const int dims = SPH_DIM;
+#pragma unroll
     for (int a = 0; a < 3; ++a)
+#pragma unroll
         for (int b = 0; b < 3; ++b)
             t[a][b] = (a < dims && b < dims) ? sigma[a][b] : (real)0;
     symmetric_eigen(t, v);
     real principal[3];
+#pragma unroll
     for (int a = 0; a < 3; ++a)
         principal[a] = t[a][a] > 0 ? -epsilon * t[a][a] / (density * density) : (real)0;
+#pragma unroll
     for (int a = 0; a < 3; ++a)
+#pragma unroll
         for (int b = 0; b < 3; ++b) {
             r[a][b] = 0;
             for (int k = 0; k < dims; ++k)
@@ -114,7 +129,9 @@ static inline real equivalent_strain_rate(real d[3][3])
 {
     const real trace_third = (d[0][0] + d[1][1] + d[2][2]) / (real)3;
     real sum = 0;
+#pragma unroll
     for (int a = 0; a < 3; ++a)
+#pragma unroll
         for (int b = 0; b < 3; ++b) {
             const real dev = d[a][b] - (a == b ? trace_third : (real)0);
             sum += dev * dev;
@@ -131,11 +148,13 @@ static inline void plastic_correction(__constant const struct sph_material *m, r
 {
     const real yield = yield_stress_of(m, *plastic_strain, equivalent_strain_rate(d), *temperature);
     real flat[9];
+#pragma unroll
     for (int k = 0; k < 9; ++k)
         flat[k] = s[k / 3][k % 3];
     const real increment = radial_return(flat, yield, m->shear_modulus);
     if (increment <= 0)
         return;
+#pragma unroll
     for (int k = 0; k < 9; ++k)
         s[k / 3][k % 3] = flat[k];
     *plastic_strain += increment;
@@ -180,7 +199,9 @@ __kernel void material_update(
     const real p_old = pressure[i];
     real power_deviatoric = 0;
     const real trace_d = d[0][0] + d[1][1] + d[2][2];
+#pragma unroll
     for (int a = 0; a < 3; ++a)
+#pragma unroll
         for (int b = 0; b < 3; ++b) {
             power_deviatoric += s[a][b] * d[a][b];
             s[a][b] += dt * rate[a][b];
@@ -192,10 +213,12 @@ __kernel void material_update(
     (void)plastic_strain;
     (void)temperature;
 #endif
-    /* the second half of the mid-step power, with the stress after the
-     * return (plastic work heats; in plane stress the return also scales
-     * S_zz, so sigma_zz = 0 holds only while the material is elastic) */
+/* the second half of the mid-step power, with the stress after the
+ * return (plastic work heats; in plane stress the return also scales
+ * S_zz, so sigma_zz = 0 holds only while the material is elastic) */
+#pragma unroll
     for (int a = 0; a < 3; ++a)
+#pragma unroll
         for (int b = 0; b < 3; ++b)
             power_deviatoric += s[a][b] * d[a][b];
     /* continuity drho/dt = -rho div v integrated exactly for the step's
@@ -226,7 +249,9 @@ __kernel void material_update(
         was_failed || (m->failure_strain >= 0 && plastic_strain[i] > m->failure_strain);
     if (failed) {
         flags[i] |= SPH_FLAG_DAMAGED;
+#pragma unroll
         for (int a = 0; a < 3; ++a)
+#pragma unroll
             for (int b = 0; b < 3; ++b)
                 s[a][b] = 0;
     }
@@ -238,7 +263,9 @@ __kernel void material_update(
 #endif
 #ifdef SPH_ARTIFICIAL_STRESS
     real sigma[3][3], r[3][3];
+#pragma unroll
     for (int a = 0; a < 3; ++a)
+#pragma unroll
         for (int b = 0; b < 3; ++b)
             sigma[a][b] = s[a][b] - (a == b ? p : (real)0);
     artificial_stress_tensor(sigma, density, run->as_epsilon, r);

@@ -14,6 +14,56 @@
  * reads: pos, vel, rho, mass, material; writes: velocity_gradient, density_rate, csph.
  */
 
+/* What pass 1 does with particle i's sums (shared with kernels/lanes.cl):
+ * the CSPH correction C_i = B_i^-1 applied to L_i, and the density rate. */
+static inline void pass1_finish(int i, real grad_v[3][3], real moment[3][3], vec xi, vec vi,
+                                __global const real *restrict rho,
+                                __global const int *restrict material,
+                                __constant const struct sph_material *materials,
+                                __constant const struct sph_run_params *run,
+                                __global fullt *restrict velocity_gradient,
+                                __global real *restrict density_rate, __global fullt *restrict csph)
+{
+#ifndef SPH_CSPH
+    (void)moment;
+    (void)csph;
+#endif
+    (void)xi;
+    (void)vi;
+    (void)material;
+    (void)materials;
+    (void)run;
+#ifdef SPH_CSPH
+    real c[3][3], corrected[3][3];
+    matrix_invert_or_identity(moment, c);
+#pragma unroll
+    for (int a = 0; a < 3; ++a)
+#pragma unroll
+        for (int b = 0; b < 3; ++b) {
+            corrected[a][b] = 0;
+#pragma unroll
+            for (int e = 0; e < SPH_DIM; ++e)
+                corrected[a][b] += grad_v[a][e] * c[e][b];
+        }
+#pragma unroll
+    for (int a = 0; a < 3; ++a)
+#pragma unroll
+        for (int b = 0; b < 3; ++b)
+            grad_v[a][b] = corrected[a][b];
+    csph[i] = fullt_store(c);
+#endif
+    real divergence = grad_v[0][0] + grad_v[1][1] + grad_v[2][2];
+#ifdef SPH_AXISYMMETRIC
+    divergence += vi.x / axis_radius(xi.x, run); /* hoop strain rate v_r / r */
+#endif
+#ifdef SPH_PLANE_STRESS
+    /* sigma_zz = 0 needs eps_zz rate = -nu/(1-nu) (eps_xx + eps_yy) (Hooke) */
+    divergence *= (real)1 - materials[material[i]].plane_stress_nu;
+#endif
+    velocity_gradient[i] = fullt_store(grad_v);
+    density_rate[i] = -rho[i] * divergence;
+}
+
 __kernel void pass1_velocity_gradient(
     __global const vec *restrict pos, __global const vec *restrict vel,
     __global const real *restrict rho, __global const real *restrict mass,
@@ -44,7 +94,9 @@ __kernel void pass1_velocity_gradient(
             const real volume = plane_mass(mass[j], pos[j], run) / rho[j];
             const vec grad = (kernel_dwdr(r, h) / r) * xij; /* grad_i W_ij */
             const vec vji = vel[j] - vi;
+#pragma unroll
             for (int a = 0; a < SPH_DIM; ++a)
+#pragma unroll
                 for (int b = 0; b < SPH_DIM; ++b) {
                     grad_v[a][b] += volume * vec_get(vji, a) * vec_get(grad, b);
 #ifdef SPH_CSPH
@@ -54,28 +106,9 @@ __kernel void pass1_velocity_gradient(
         }
     }
     END_FOR_EACH_NEIGHBOUR
-#ifdef SPH_CSPH
-    real c[3][3], corrected[3][3];
-    matrix_invert_or_identity(moment, c);
-    for (int a = 0; a < 3; ++a)
-        for (int b = 0; b < 3; ++b) {
-            corrected[a][b] = 0;
-            for (int e = 0; e < SPH_DIM; ++e)
-                corrected[a][b] += grad_v[a][e] * c[e][b];
-        }
-    for (int a = 0; a < 3; ++a)
-        for (int b = 0; b < 3; ++b)
-            grad_v[a][b] = corrected[a][b];
-    csph[i] = fullt_store(c);
+#ifndef SPH_CSPH
+    real moment[3][3];
 #endif
-    real divergence = grad_v[0][0] + grad_v[1][1] + grad_v[2][2];
-#ifdef SPH_AXISYMMETRIC
-    divergence += vi.x / axis_radius(xi.x, run); /* hoop strain rate v_r / r */
-#endif
-#ifdef SPH_PLANE_STRESS
-    /* sigma_zz = 0 needs eps_zz rate = -nu/(1-nu) (eps_xx + eps_yy) (Hooke) */
-    divergence *= (real)1 - materials[material[i]].plane_stress_nu;
-#endif
-    velocity_gradient[i] = fullt_store(grad_v);
-    density_rate[i] = -rho[i] * divergence;
+    pass1_finish(i, grad_v, moment, xi, vi, rho, material, materials, run, velocity_gradient,
+                 density_rate, csph);
 }

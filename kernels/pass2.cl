@@ -27,6 +27,7 @@
 static inline void total_stress(real p, symt dev, real out[3][3])
 {
     symt_load(dev, out);
+#pragma unroll
     for (int a = 0; a < 3; ++a)
         out[a][a] -= p;
 }
@@ -34,8 +35,10 @@ static inline void total_stress(real p, symt dev, real out[3][3])
 /* out = m . v over the first SPH_DIM components */
 static inline void matrix_times(real m[3][3], real v[3], real out[3])
 {
+#pragma unroll
     for (int a = 0; a < SPH_DIM; ++a) {
         out[a] = 0;
+#pragma unroll
         for (int b = 0; b < SPH_DIM; ++b)
             out[a] += m[a][b] * v[b];
     }
@@ -44,8 +47,10 @@ static inline void matrix_times(real m[3][3], real v[3], real out[3])
 /* out = m^T . v */
 static inline void transpose_times(real m[3][3], real v[3], real out[3])
 {
+#pragma unroll
     for (int a = 0; a < SPH_DIM; ++a) {
         out[a] = 0;
+#pragma unroll
         for (int b = 0; b < SPH_DIM; ++b)
             out[a] += m[b][a] * v[b];
     }
@@ -107,7 +112,9 @@ __kernel void pass2_momentum_energy(
     const real c_i = materials[material[i]].sound_speed;
     real sigma_i[3][3]; /* sigma_i / rho_i */
     total_stress(pressure[i], deviatoric_stress[i], sigma_i);
+#pragma unroll
     for (int a = 0; a < 3; ++a)
+#pragma unroll
         for (int b = 0; b < 3; ++b)
             sigma_i[a][b] /= rho_i;
 #ifdef SPH_ARTIFICIAL_STRESS
@@ -148,12 +155,14 @@ __kernel void pass2_momentum_energy(
                 run->av_alpha, run->av_beta);
             const real dwdr_r = kernel_dwdr(r, h) / r;
             real grad[3] = {0, 0, 0}, g_i[3], g_j[3];
+#pragma unroll
             for (int a = 0; a < SPH_DIM; ++a)
                 grad[a] = dwdr_r * vec_get(xij, a);
 #ifdef SPH_CSPH
             transpose_times(c_i_t, grad, g_i);
             fullt_transpose_times(csph[j], grad, g_j);
 #else
+#pragma unroll
             for (int a = 0; a < 3; ++a)
                 g_i[a] = g_j[a] = grad[a];
 #endif
@@ -162,6 +171,7 @@ __kernel void pass2_momentum_energy(
             real t_i[3], t_j[3], extra[3];
             matrix_times(sigma_i, g_i, t_i);
             stress_times(pressure[j], deviatoric_stress[j], g_j, t_j);
+#pragma unroll
             for (int a = 0; a < SPH_DIM; ++a)
                 extra[a] = -pi_ij * grad[a];
 #ifdef SPH_ARTIFICIAL_STRESS
@@ -179,17 +189,20 @@ __kernel void pass2_momentum_energy(
                 if (fn > 0) {
                     real r_j[3][3], rg[3];
                     symt_load(artificial_stress[j], r_j);
+#pragma unroll
                     for (int a = 0; a < SPH_DIM; ++a)
+#pragma unroll
                         for (int b = 0; b < SPH_DIM; ++b)
                             r_j[a][b] += r_i[a][b];
                     matrix_times(r_j, grad, rg);
+#pragma unroll
                     for (int a = 0; a < SPH_DIM; ++a)
                         extra[a] += fn * rg[a];
                 }
             }
 #endif
-            /* sigma_i already carries 1 / rho_i */
-            for (int a = 0; a < SPH_DIM; ++a) {
+#pragma unroll
+            for (int a = 0; a < SPH_DIM; ++a) { /* sigma_i already carries 1 / rho_i */
                 acc[a] += (m_j * t_i[a] + m_j_at_i * t_j[a] / rho_i) / rho_j + m_pair * extra[a];
                 de -= (real)0.5 * m_pair * vec_get(vij, a) * extra[a];
             }

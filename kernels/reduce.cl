@@ -203,12 +203,15 @@ health_indicators(__global const vec *restrict pos, __global const real *restric
             mine[SPH_HEALTH_CLUMPED] += 1;
         real sigma[3][3], normal[3];
         symt_load(deviatoric_stress[i], sigma);
+#pragma unroll
         for (int a = 0; a < 3; ++a) {
             sigma[a][a] -= pressure[i];
             normal[a] = vec_get(nearest, a) / (r * scale_i);
         }
         real sigma_n = 0;
+#pragma unroll
         for (int a = 0; a < SPH_DIM; ++a)
+#pragma unroll
             for (int b = 0; b < SPH_DIM; ++b)
                 sigma_n += normal[a] * sigma[a][b] * normal[b];
         if (kernel_d2wdr2(r, run->h) * sigma_n > 0) /* in units of its own spacing */

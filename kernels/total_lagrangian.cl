@@ -59,14 +59,16 @@ __kernel void tl_correction(__global const vec *restrict pos0, __global const re
     const real support2 = run->support * run->support;
     const vec xi = pos0[i];
     real moment[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
-    FOR_EACH_NEIGHBOUR_WITHIN(i, j, 1)
+    FOR_EACH_NEIGHBOUR_WITHIN(i, j, SPH_GRID_SPLIT)
     {
         const vec xij = xi - pos0[j];
         real volume;
         vec grad;
         if (tl_reference_pair(j != i, xij, support2, h, mass[j] / materials[material[j]].density,
                               &volume, &grad)) {
+#pragma unroll
             for (int a = 0; a < SPH_DIM; ++a)
+#pragma unroll
                 for (int b = 0; b < SPH_DIM; ++b)
                     moment[a][b] -= volume * vec_get(xij, a) * vec_get(grad, b);
         }
@@ -80,9 +82,12 @@ __kernel void tl_correction(__global const vec *restrict pos0, __global const re
 /* out = a . b over the first SPH_DIM rows and columns */
 static inline void tl_matmul(real a[3][3], real b[3][3], real out[3][3])
 {
+#pragma unroll
     for (int p = 0; p < 3; ++p)
+#pragma unroll
         for (int q = 0; q < 3; ++q) {
             out[p][q] = 0;
+#pragma unroll
             for (int k = 0; k < SPH_DIM; ++k)
                 out[p][q] += a[p][k] * b[k][q];
         }
@@ -114,14 +119,16 @@ tl_deformation(__global const vec *restrict pos, __global const vec *restrict po
     const vec big_xi = pos0[i], xi = pos[i], wi = vel_half[i] + xsph_velocity[i];
     real sum_x[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
     real sum_w[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
-    FOR_EACH_NEIGHBOUR_WITHIN(i, j, 1)
+    FOR_EACH_NEIGHBOUR_WITHIN(i, j, SPH_GRID_SPLIT)
     {
         real volume;
         vec grad;
         if (tl_reference_pair(j != i, big_xi - pos0[j], support2, h,
                               mass[j] / materials[material[j]].density, &volume, &grad)) {
             const vec xji = pos[j] - xi, wji = vel_half[j] + xsph_velocity[j] - wi;
+#pragma unroll
             for (int a = 0; a < SPH_DIM; ++a)
+#pragma unroll
                 for (int b = 0; b < SPH_DIM; ++b) {
                     sum_x[a][b] += volume * vec_get(xji, a) * vec_get(grad, b);
                     sum_w[a][b] += volume * vec_get(wji, a) * vec_get(grad, b);
@@ -133,7 +140,9 @@ tl_deformation(__global const vec *restrict pos, __global const vec *restrict po
     fullt_load(correction[i], c);
     tl_matmul(sum_x, c, f);
     tl_matmul(sum_w, c, f_rate);
+#pragma unroll
     for (int a = 0; a < 3; ++a)
+#pragma unroll
         for (int b = 0; b < 3; ++b) {
             f_mid[a][b] = f[a][b] + (real)0.5 * dt * f_rate[a][b];
             f[a][b] += dt * f_rate[a][b];
@@ -168,12 +177,15 @@ __kernel void tl_first_piola(__global const real *restrict rho,
         return;
     real sigma[3][3], f[3][3], f_inv[3][3], f_inv_t[3][3], c_t[3][3], p[3][3], a[3][3];
     symt_load(deviatoric_stress[i], sigma);
+#pragma unroll
     for (int k = 0; k < 3; ++k)
         sigma[k][k] -= pressure[i];
     fullt_load(deformation_gradient[i], f);
     matrix_invert_or_identity(f, f_inv);
     fullt_load(correction[i], c_t);
+#pragma unroll
     for (int r = 0; r < 3; ++r)
+#pragma unroll
         for (int q = 0; q < 3; ++q) {
             f_inv_t[r][q] = f_inv[q][r];
             if (r < q) {
@@ -185,7 +197,9 @@ __kernel void tl_first_piola(__global const real *restrict rho,
     const real volume_ratio = materials[material[i]].density / rho[i];
     tl_matmul(sigma, f_inv_t, p);
     tl_matmul(p, c_t, a);
+#pragma unroll
     for (int r = 0; r < 3; ++r)
+#pragma unroll
         for (int q = 0; q < 3; ++q)
             a[r][q] *= volume_ratio;
     first_piola[i] = fullt_store(a);
@@ -202,7 +216,9 @@ static inline vec tl_hourglass(vec xji, vec big_xji, real r0, real w0, real f_me
                                real coefficient, real volume_j)
 {
     real predicted[3] = {0, 0, 0};
+#pragma unroll
     for (int a = 0; a < SPH_DIM; ++a)
+#pragma unroll
         for (int b = 0; b < SPH_DIM; ++b)
             predicted[a] += f_mean[a][b] * vec_get(big_xji, b);
     const real r = length(xji);
@@ -244,7 +260,7 @@ __kernel void tl_momentum(__global const vec *restrict pos, __global const vec *
     real acc[3] = {0, 0, 0};
     real de = 0;
     vec xsph = VEC_ZERO, acc_extra = VEC_ZERO; /* viscosity, hourglass */
-    FOR_EACH_NEIGHBOUR_WITHIN(i, j, 1)
+    FOR_EACH_NEIGHBOUR_WITHIN(i, j, SPH_GRID_SPLIT)
     {
         const vec big_xij = big_xi - pos0[j];
         const real r02 = dot(big_xij, big_xij);
@@ -255,10 +271,13 @@ __kernel void tl_momentum(__global const vec *restrict pos, __global const vec *
             const real dwdr_r = kernel_dwdr(r0, h) / r0;
             real a_j[3][3], grad[3] = {0, 0, 0}, stress_force[3];
             fullt_load(first_piola[j], a_j);
+#pragma unroll
             for (int a = 0; a < SPH_DIM; ++a)
                 grad[a] = dwdr_r * vec_get(big_xij, a);
+#pragma unroll
             for (int a = 0; a < SPH_DIM; ++a) {
                 stress_force[a] = 0;
+#pragma unroll
                 for (int b = 0; b < SPH_DIM; ++b)
                     stress_force[a] += (a_i[a][b] + a_j[a][b]) * grad[b];
                 acc[a] += volume_j * stress_force[a];
@@ -281,7 +300,9 @@ __kernel void tl_momentum(__global const vec *restrict pos, __global const vec *
             if (hourglass > 0) {
                 real f_mean[3][3];
                 fullt_load(deformation_gradient[j], f_mean);
+#pragma unroll
                 for (int a = 0; a < 3; ++a)
+#pragma unroll
                     for (int b = 0; b < 3; ++b)
                         f_mean[a][b] = (real)0.5 * (f_mean[a][b] + f_i[a][b]);
                 acc_extra +=

@@ -59,7 +59,7 @@ def main():
     sys.stdout.write(proc.stdout + proc.stderr)
     if proc.returncode != 0:
         failures.append(f"sph run --profile exited {proc.returncode}")
-    elif "pass2_momentum_energy" not in proc.stdout:
+    elif "pass2_" not in proc.stdout:
         failures.append("sph run --profile printed no kernel table")
     else:
         with open(os.path.join(folder, "profile.json")) as f:

@@ -218,11 +218,13 @@ static void run_random(int dim, int n, double size)
 static void run_faces(int dim, int per_axis)
 {
     double *xyz = malloc(sizeof(double) * 3 * per_axis * per_axis * per_axis);
-    /* support 2.4 (Wendland, h = 1.2), skin 0.2: cell 2.88 */
-    const int n = face_lattice(xyz, dim, 2.4 * 1.2, per_axis);
+    /* support 2.4 (Wendland, h = 1.2), skin 0.2: cell 2.88 / SPH_GRID_SPLIT;
+     * the lattice puts particles on the faces of those cells */
+    const double cell = 2.4 * 1.2 / SPH_GRID_SPLIT;
+    const int n = face_lattice(xyz, dim, cell, per_axis);
     struct fixture f;
     setup(&f, dim, xyz, n);
-    assert_true(fabs(f.s.grid.cell_size - 2.88) < 1e-6);
+    assert_true(fabs(f.s.grid.cell_size - cell) < 1e-6);
     compare_with_brute_force(&f);
     teardown(&f);
     free(xyz);

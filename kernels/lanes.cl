@@ -1,0 +1,542 @@
+/*
+ * Passes 1 and 2 over lanes of particles (SPH_LANES; numerics.neighbour_loop:
+ * lanes, the default where it applies: a uniform lattice, plane or 3-D,
+ * the updated Lagrangian form).
+ *
+ * Why: PoCL vectorises a kernel across work-items only when its body has
+ * no inner loop of varying trip count, so pass1.cl and pass2.cl, whose
+ * neighbour loops differ per particle, run one particle per instruction on
+ * a CPU (docs/performance.md). Here a work-item takes SPH_LANES consecutive
+ * particles of the cell-sorted order (mostly in the same or adjacent
+ * cells), walks the union of their search boxes once, and evaluates each
+ * candidate j for all lanes at once in realv arithmetic: j's data are
+ * loaded once and broadcast, i's live in vector registers, a candidate no
+ * lane reaches costs one vector distance test. A lane whose particle is not
+ * within the support contributes exactly zero (select, not a multiply, so
+ * the r = 0 of i itself cannot leak a NaN).
+ *
+ * The physics is pass1.cl's and pass2.cl's term by term, with the same
+ * equations and the same operations per pair; sums over the neighbours
+ * run in the same cell order, so the results agree with the plain passes
+ * to the rounding of the sums (tests: lanes_match_plain_*).
+ */
+#ifdef SPH_LANES
+
+#if SPH_LANES == 4
+#ifdef SPH_DOUBLE
+typedef double4 realv;
+typedef long4 maskv;
+#else
+typedef float4 realv;
+typedef int4 maskv;
+#endif
+#elif SPH_LANES == 8
+#ifdef SPH_DOUBLE
+typedef double8 realv;
+typedef long8 maskv;
+#else
+typedef float8 realv;
+typedef int8 maskv;
+#endif
+#elif SPH_LANES == 16
+#ifdef SPH_DOUBLE
+typedef double16 realv;
+typedef long16 maskv;
+#else
+typedef float16 realv;
+typedef int16 maskv;
+#endif
+#else
+#error "SPH_LANES must be 4, 8 or 16"
+#endif
+
+#if defined(SPH_GRADED) || defined(SPH_AXISYMMETRIC)
+#error "the lane passes serve uniform plane and 3-D lattices (host/state.c picks the plain passes)"
+#endif
+
+#ifdef SPH_DOUBLE
+typedef long mask_scalar;
+#else
+typedef int mask_scalar;
+#endif
+
+typedef union {
+    realv v;
+    real s[SPH_LANES];
+} lanes_union;
+
+typedef union {
+    maskv v;
+    mask_scalar s[SPH_LANES];
+} mask_union;
+
+static inline real lane_of(realv v, int l)
+{
+    lanes_union u;
+    u.v = v;
+    return u.s[l];
+}
+
+/* The smoothing kernel's shape f(q) and df/dq (smoothing.cl) on a vector
+ * of q; SPH_KERNEL is a build constant, so one branch survives. */
+static inline realv shape_v(realv q)
+{
+    const realv zero = (realv)0, one = (realv)1, two = (realv)2;
+    if (SPH_KERNEL == SPH_KERNEL_CUBIC_SPLINE) {
+        const realv t = fmax(two - q, zero);
+        return select((real)0.25 * t * t * t, one - (real)1.5 * q * q + (real)0.75 * q * q * q,
+                      q < one);
+    }
+    if (SPH_KERNEL == SPH_KERNEL_GAUSSIAN)
+        return select(zero, exp(-q * q) - (real)SPH_EXPM9, q <= (real)3);
+    if (SPH_KERNEL == SPH_KERNEL_QUINTIC_SPLINE) {
+        const realv a = fmax((real)3 - q, zero), b = fmax(two - q, zero), c = fmax(one - q, zero);
+        const realv a2 = a * a, b2 = b * b, c2 = c * c;
+        return a2 * a2 * a - (real)6 * b2 * b2 * b + (real)15 * c2 * c2 * c;
+    }
+    if (SPH_KERNEL == SPH_KERNEL_WENDLAND_C2) {
+        const realv t = fmax(one - (real)0.5 * q, zero);
+        return (t * t) * (t * t) * ((real)2 * q + one);
+    }
+    if (SPH_KERNEL == SPH_KERNEL_DOUBLE_COSINE) {
+        const real k = (real)SPH_DOUBLE_COSINE_K, pi = (real)SPH_PI;
+        return select(zero, (real)4 * cos(pi * q / k) + cos((real)2 * pi * q / k) + (real)3,
+                      q <= k);
+    }
+    /* SPH_KERNEL_HYPERBOLIC */
+    const realv t = fmax(two - q, zero);
+    return select(t * t * t, q * q * q - (real)6 * q + (real)6, q <= one);
+}
+
+static inline realv shape_dq_v(realv q)
+{
+    const realv zero = (realv)0, one = (realv)1, two = (realv)2;
+    if (SPH_KERNEL == SPH_KERNEL_CUBIC_SPLINE) {
+        const realv t = fmax(two - q, zero);
+        return select((real)-0.75 * t * t, (real)-3 * q + (real)2.25 * q * q, q < one);
+    }
+    if (SPH_KERNEL == SPH_KERNEL_GAUSSIAN)
+        return select(zero, (real)-2 * q * exp(-q * q), q <= (real)3);
+    if (SPH_KERNEL == SPH_KERNEL_QUINTIC_SPLINE) {
+        const realv a = fmax((real)3 - q, zero), b = fmax(two - q, zero), c = fmax(one - q, zero);
+        const realv a2 = a * a, b2 = b * b, c2 = c * c;
+        return (real)-5 * a2 * a2 + (real)30 * b2 * b2 - (real)75 * c2 * c2;
+    }
+    if (SPH_KERNEL == SPH_KERNEL_WENDLAND_C2) {
+        const realv t = fmax(one - (real)0.5 * q, zero);
+        return (real)-5 * q * t * t * t;
+    }
+    if (SPH_KERNEL == SPH_KERNEL_DOUBLE_COSINE) {
+        const real k = (real)SPH_DOUBLE_COSINE_K, pi = (real)SPH_PI;
+        return select(zero,
+                      -(real)4 * pi / k * sin(pi * q / k) -
+                          (real)2 * pi / k * sin((real)2 * pi * q / k),
+                      q <= k);
+    }
+    const realv t = fmax(two - q, zero);
+    return select((real)-3 * t * t, (real)3 * q * q - (real)6, q <= one);
+}
+
+static inline realv kernel_w_v(realv r, real h)
+{
+    return sph_kernel_sigma(SPH_KERNEL, SPH_DIM) * sph_inv_h_pow(h, SPH_DIM) * shape_v(r / h);
+}
+
+static inline realv kernel_dwdr_v(realv r, real h)
+{
+    return sph_kernel_sigma(SPH_KERNEL, SPH_DIM) * sph_inv_h_pow(h, SPH_DIM) / h *
+           shape_dq_v(r / h);
+}
+
+/* The lanes of work-item `group`: the first particle, which lanes hold a
+ * real particle (not past n, not a ghost), and the box of their cells. */
+struct lane_block {
+    int first;
+    maskv live;
+    maskv index;
+    int4 lo, hi;
+};
+
+static inline int lane_block_setup(struct lane_block *b, __global const int *restrict flags,
+                                   __global const ulong *restrict sort_keys, int4 grid_dims,
+                                   const int n)
+{
+    b->first = (int)get_global_id(0) * SPH_LANES;
+    b->lo = (int4)(INT_MAX);
+    b->hi = (int4)(INT_MIN);
+    mask_union live, index;
+    int any_live = 0;
+    for (int l = 0; l < SPH_LANES; ++l) {
+        const int i = b->first + l;
+        const int ok = i < n && !(flags[i] & SPH_FLAG_GHOST);
+        live.s[l] = ok ? -1 : 0;
+        index.s[l] = i;
+        if (ok) {
+            const int4 c = grid_cell_coords((int)(sort_keys[i] >> 32), grid_dims);
+            b->lo = min(b->lo, c);
+            b->hi = max(b->hi, c);
+            any_live = 1;
+        }
+    }
+    b->live = live.v;
+    b->index = index.v;
+    return any_live;
+}
+
+/* FOR_EACH_LANE_NEIGHBOUR(block, j) { ... } END_FOR_EACH_LANE_NEIGHBOUR:
+ * every j in the cells within SPH_GRID_SPLIT of the block's box; rows of
+ * cells are contiguous in the sorted order, as in FOR_EACH_NEIGHBOUR. */
+#define FOR_EACH_LANE_NEIGHBOUR(b, j)                                                              \
+    for (int cz_ = max((b).lo.z - GRID_DZ * SPH_GRID_SPLIT, 0);                                    \
+         cz_ <= min((b).hi.z + GRID_DZ * SPH_GRID_SPLIT, grid_dims.z - 1); ++cz_)                  \
+        for (int cy_ = max((b).lo.y - SPH_GRID_SPLIT, 0);                                          \
+             cy_ <= min((b).hi.y + SPH_GRID_SPLIT, grid_dims.y - 1); ++cy_) {                      \
+            const int row_ = (cz_ * grid_dims.y + cy_) * grid_dims.x;                              \
+            const int x0_ = max((b).lo.x - SPH_GRID_SPLIT, 0);                                     \
+            const int x1_ = min((b).hi.x + SPH_GRID_SPLIT, grid_dims.x - 1);                       \
+            int first_ = -1, last_ = -1;                                                           \
+            for (int cx_ = x0_; cx_ <= x1_; ++cx_) {                                               \
+                const int s_ = cell_start[row_ + cx_];                                             \
+                if (s_ < 0)                                                                        \
+                    continue;                                                                      \
+                if (first_ < 0)                                                                    \
+                    first_ = s_;                                                                   \
+                last_ = cell_end[row_ + cx_];                                                      \
+            }                                                                                      \
+            for (int j = first_; j < last_; ++j) {
+
+#define END_FOR_EACH_LANE_NEIGHBOUR                                                                \
+    }                                                                                              \
+    }
+
+/* One lane's particle data gathered into vectors: a real field. */
+static inline realv gather_real(__global const real *restrict f, const struct lane_block *b, int n)
+{
+    lanes_union u;
+    for (int l = 0; l < SPH_LANES; ++l)
+        u.s[l] = b->first + l < n ? f[b->first + l] : (real)0;
+    return u.v;
+}
+
+/* ... and a vector field, by component (z = 0 in 2-D). */
+static inline void gather_vec(__global const vec *restrict f, const struct lane_block *b, int n,
+                              realv out[3])
+{
+    lanes_union u[3];
+    for (int l = 0; l < SPH_LANES; ++l) {
+        const vec v = b->first + l < n ? f[b->first + l] : VEC_ZERO;
+#pragma unroll
+        for (int a = 0; a < 3; ++a)
+            u[a].s[l] = a < SPH_DIM ? vec_get(v, a) : (real)0;
+    }
+#pragma unroll
+    for (int a = 0; a < 3; ++a)
+        out[a] = u[a].v;
+}
+
+/* reads: pos, vel, rho, mass, material; writes: velocity_gradient,
+ * density_rate, csph (as pass1_velocity_gradient). */
+__kernel void pass1_lanes(__global const vec *restrict pos, __global const vec *restrict vel,
+                          __global const real *restrict rho, __global const real *restrict mass,
+                          __global const int *restrict material, __global const int *restrict flags,
+                          GRID_ARGS, __constant const struct sph_material *materials,
+                          __constant const struct sph_run_params *run,
+                          __global fullt *restrict velocity_gradient,
+                          __global real *restrict density_rate, __global fullt *restrict csph,
+                          const int n)
+{
+    struct lane_block b;
+    if ((int)get_global_id(0) * SPH_LANES >= n ||
+        !lane_block_setup(&b, flags, sort_keys, grid_dims, n))
+        return;
+    const real h = run->h, support2 = run->support * run->support;
+    realv xi[3], vi[3];
+    gather_vec(pos, &b, n, xi);
+    gather_vec(vel, &b, n, vi);
+    realv grad_v[3][3], moment[3][3];
+#pragma unroll
+    for (int a = 0; a < 3; ++a)
+#pragma unroll
+        for (int c = 0; c < 3; ++c)
+            grad_v[a][c] = moment[a][c] = (realv)0;
+    FOR_EACH_LANE_NEIGHBOUR(b, j)
+    {
+        const vec xj = pos[j];
+        realv xij[3];
+#pragma unroll
+        for (int a = 0; a < 3; ++a)
+            xij[a] = a < SPH_DIM ? xi[a] - vec_get(xj, a) : (realv)0;
+        const realv r2 = xij[0] * xij[0] + xij[1] * xij[1] + xij[2] * xij[2];
+        const maskv near = (r2 < support2) & b.live & (b.index != (maskv)j);
+        if (!any(near))
+            continue;
+        const realv r = sqrt(r2);
+        const real volume = mass[j] / rho[j];
+        /* grad_i W_ij = dW/dr x_ij / r; zero for lanes out of reach */
+        const realv dwdr_r = select((realv)0, kernel_dwdr_v(r, h) / r, near);
+        const vec vj = vel[j];
+#pragma unroll
+        for (int a = 0; a < SPH_DIM; ++a) {
+            const realv vji = vec_get(vj, a) - vi[a];
+#pragma unroll
+            for (int c = 0; c < SPH_DIM; ++c) {
+                const realv g = dwdr_r * xij[c];
+                grad_v[a][c] += volume * vji * g;
+#ifdef SPH_CSPH
+                moment[a][c] -= volume * xij[a] * g;
+#endif
+            }
+        }
+    }
+    END_FOR_EACH_LANE_NEIGHBOUR
+    for (int l = 0; l < SPH_LANES; ++l) {
+        const int i = b.first + l;
+        if (i >= n || (flags[i] & SPH_FLAG_GHOST))
+            continue;
+        real gv[3][3], m[3][3];
+#pragma unroll
+        for (int a = 0; a < 3; ++a)
+#pragma unroll
+            for (int c = 0; c < 3; ++c) {
+                gv[a][c] = lane_of(grad_v[a][c], l);
+                m[a][c] = lane_of(moment[a][c], l);
+            }
+        pass1_finish(i, gv, m, pos[i], vel[i], rho, material, materials, run, velocity_gradient,
+                     density_rate, csph);
+    }
+}
+
+/* A 3 x 3 tensor per lane from a symmetric-tensor field. */
+static inline void gather_symt(__global const symt *restrict f, const struct lane_block *b, int n,
+                               realv out[3][3])
+{
+    lanes_union u[3][3];
+    for (int l = 0; l < SPH_LANES; ++l) {
+        real t[3][3];
+        symt_load(b->first + l < n ? f[b->first + l] : (symt)0, t);
+#pragma unroll
+        for (int a = 0; a < 3; ++a)
+#pragma unroll
+            for (int c = 0; c < 3; ++c)
+                u[a][c].s[l] = t[a][c];
+    }
+#pragma unroll
+    for (int a = 0; a < 3; ++a)
+#pragma unroll
+        for (int c = 0; c < 3; ++c)
+            out[a][c] = u[a][c].v;
+}
+
+#ifdef SPH_CSPH
+static inline void gather_fullt(__global const fullt *restrict f, const struct lane_block *b, int n,
+                                realv out[3][3])
+{
+    lanes_union u[3][3];
+    for (int l = 0; l < SPH_LANES; ++l) {
+        real t[3][3];
+        fullt_load(b->first + l < n ? f[b->first + l] : (fullt)0, t);
+#pragma unroll
+        for (int a = 0; a < 3; ++a)
+#pragma unroll
+            for (int c = 0; c < 3; ++c)
+                u[a][c].s[l] = t[a][c];
+    }
+#pragma unroll
+    for (int a = 0; a < 3; ++a)
+#pragma unroll
+        for (int c = 0; c < 3; ++c)
+            out[a][c] = u[a][c].v;
+}
+#endif
+
+#ifdef SPH_ARTIFICIAL_STRESS
+/* Monaghan's (2000) weight (W(r) / W(dx))^n per lane (pass2.cl). */
+static inline realv artificial_stress_weight_v(realv r, real h,
+                                               __constant const struct sph_run_params *run)
+{
+    const realv f = kernel_w_v(r, h) * run->as_inv_w_dx;
+    realv fn = (realv)1;
+    for (int k = 0; k < run->as_exponent; ++k)
+        fn *= f;
+    return fn;
+}
+#endif
+
+/* reads: pos, pos0, vel, rho, mass, pressure, deviatoric_stress,
+ * artificial_stress, csph, material; writes: acceleration, energy_rate,
+ * xsph_velocity (as pass2_momentum_energy, whose comments give the
+ * equations). */
+__kernel void
+pass2_lanes(__global const vec *restrict pos, __global const vec *restrict pos0,
+            __global const vec *restrict vel, __global const real *restrict rho,
+            __global const real *restrict mass, __global const real *restrict pressure,
+            __global const symt *restrict deviatoric_stress,
+            __global const symt *restrict artificial_stress, __global const fullt *restrict csph,
+            __global const int *restrict material, __global const int *restrict flags, GRID_ARGS,
+            __constant const struct sph_material *materials,
+            __constant const struct sph_run_params *run, __global vec *restrict acceleration,
+            __global real *restrict energy_rate, __global vec *restrict xsph_velocity, const int n)
+{
+    struct lane_block b;
+    if ((int)get_global_id(0) * SPH_LANES >= n ||
+        !lane_block_setup(&b, flags, sort_keys, grid_dims, n))
+        return;
+    const real h = run->h, support2 = run->support * run->support;
+    realv xi[3], vi[3], sigma_i[3][3];
+    gather_vec(pos, &b, n, xi);
+    gather_vec(vel, &b, n, vi);
+    const realv rho_i = select((realv)1, gather_real(rho, &b, n), b.live);
+    gather_symt(deviatoric_stress, &b, n, sigma_i);
+    {
+        const realv p_i = gather_real(pressure, &b, n);
+#pragma unroll
+        for (int a = 0; a < 3; ++a) {
+            sigma_i[a][a] -= p_i;
+#pragma unroll
+            for (int c = 0; c < 3; ++c)
+                sigma_i[a][c] /= rho_i; /* sigma_i / rho_i */
+        }
+    }
+    lanes_union sound;
+    for (int l = 0; l < SPH_LANES; ++l)
+        sound.s[l] = b.first + l < n ? materials[material[b.first + l]].sound_speed : (real)0;
+    const realv c_i = sound.v;
+#ifdef SPH_ARTIFICIAL_STRESS
+    realv r_i[3][3];
+    gather_symt(artificial_stress, &b, n, r_i);
+#ifndef SPH_AS_LATTICE_WEIGHT
+    realv x0_i[3];
+    gather_vec(pos0, &b, n, x0_i);
+#endif
+#else
+    (void)artificial_stress;
+    (void)pos0;
+#endif
+#ifdef SPH_CSPH
+    realv c_i_t[3][3];
+    gather_fullt(csph, &b, n, c_i_t);
+#else
+    (void)csph;
+#endif
+    realv acc[3] = {(realv)0, (realv)0, (realv)0}, xsph[3] = {(realv)0, (realv)0, (realv)0};
+    realv de = (realv)0;
+    FOR_EACH_LANE_NEIGHBOUR(b, j)
+    {
+        const vec xj = pos[j];
+        realv xij[3];
+#pragma unroll
+        for (int a = 0; a < 3; ++a)
+            xij[a] = a < SPH_DIM ? xi[a] - vec_get(xj, a) : (realv)0;
+        const realv r2 = xij[0] * xij[0] + xij[1] * xij[1] + xij[2] * xij[2];
+        const maskv near = (r2 < support2) & b.live & (b.index != (maskv)j);
+        if (!any(near))
+            continue;
+        const realv r = sqrt(r2);
+        const vec vj = vel[j];
+        realv vij[3];
+#pragma unroll
+        for (int a = 0; a < 3; ++a)
+            vij[a] = a < SPH_DIM ? vi[a] - vec_get(vj, a) : (realv)0;
+        const real rho_j = rho[j], m_j = mass[j];
+        const realv rho_mean = (real)0.5 * (rho_i + rho_j);
+        /* Monaghan (1992) viscosity, approaching pairs only */
+        const realv vr = vij[0] * xij[0] + vij[1] * xij[1] + vij[2] * xij[2];
+        const realv mu = h * vr / (r2 + (real)0.01 * h * h);
+        const realv c_mean = (real)0.5 * (c_i + materials[material[j]].sound_speed);
+        const realv pi_ij =
+            select((realv)0, (-run->av_alpha * c_mean * mu + run->av_beta * mu * mu) / rho_mean,
+                   vr < (real)0);
+        const realv dwdr_r = select((realv)0, kernel_dwdr_v(r, h) / r, near);
+        realv grad[3], g_i[3], g_j[3];
+#pragma unroll
+        for (int a = 0; a < 3; ++a)
+            grad[a] = a < SPH_DIM ? dwdr_r * xij[a] : (realv)0;
+#ifdef SPH_CSPH
+        real c_j[3][3];
+        fullt_load(csph[j], c_j);
+#pragma unroll
+        for (int a = 0; a < 3; ++a) {
+            g_i[a] = g_j[a] = (realv)0;
+#pragma unroll
+            for (int c = 0; c < SPH_DIM; ++c) {
+                g_i[a] += c_i_t[c][a] * grad[c];
+                g_j[a] += c_j[c][a] * grad[c];
+            }
+        }
+#else
+#pragma unroll
+        for (int a = 0; a < 3; ++a)
+            g_i[a] = g_j[a] = grad[a];
+#endif
+        /* (sigma_i . g_i + sigma_j . g_j) / (rho_i rho_j) and the
+         * artificial terms (f^n (R_i + R_j) - Pi I) . g */
+        real sigma_j[3][3];
+        symt_load(deviatoric_stress[j], sigma_j);
+        const real p_j = pressure[j];
+#pragma unroll
+        for (int a = 0; a < 3; ++a)
+            sigma_j[a][a] -= p_j;
+        realv t_i[3], t_j[3], extra[3];
+#pragma unroll
+        for (int a = 0; a < SPH_DIM; ++a) {
+            t_i[a] = t_j[a] = (realv)0;
+#pragma unroll
+            for (int c = 0; c < SPH_DIM; ++c) {
+                t_i[a] += sigma_i[a][c] * g_i[c];
+                t_j[a] += sigma_j[a][c] * g_j[c];
+            }
+            extra[a] = -pi_ij * grad[a];
+        }
+#ifdef SPH_ARTIFICIAL_STRESS
+        {
+            realv fn = artificial_stress_weight_v(r, h, run);
+#ifndef SPH_AS_LATTICE_WEIGHT
+            const vec x0_j = pos0[j];
+            realv d0[3];
+#pragma unroll
+            for (int a = 0; a < 3; ++a)
+                d0[a] = a < SPH_DIM ? x0_i[a] - vec_get(x0_j, a) : (realv)0;
+            const realv r0 = sqrt(d0[0] * d0[0] + d0[1] * d0[1] + d0[2] * d0[2]);
+            fn = fmax(fn - artificial_stress_weight_v(r0, h, run), (realv)0);
+#endif
+            real r_j[3][3];
+            symt_load(artificial_stress[j], r_j);
+#pragma unroll
+            for (int a = 0; a < SPH_DIM; ++a) {
+                realv rg = (realv)0;
+#pragma unroll
+                for (int c = 0; c < SPH_DIM; ++c)
+                    rg += (r_j[a][c] + r_i[a][c]) * grad[c];
+                extra[a] += fn * rg;
+            }
+        }
+#endif
+#pragma unroll
+        for (int a = 0; a < SPH_DIM; ++a) {
+            acc[a] += (m_j * t_i[a] + m_j * t_j[a] / rho_i) / rho_j + m_j * extra[a];
+            de -= (real)0.5 * m_j * vij[a] * extra[a];
+        }
+#ifdef SPH_XSPH
+        const realv w = select((realv)0, kernel_w_v(r, h), near);
+#pragma unroll
+        for (int a = 0; a < SPH_DIM; ++a)
+            xsph[a] -= (m_j / rho_mean * w) * vij[a];
+#endif
+    }
+    END_FOR_EACH_LANE_NEIGHBOUR
+    for (int l = 0; l < SPH_LANES; ++l) {
+        const int i = b.first + l;
+        if (i >= n || (flags[i] & SPH_FLAG_GHOST))
+            continue;
+        acceleration[i] = vec_make(lane_of(acc[0], l), lane_of(acc[1], l), lane_of(acc[2], l));
+        energy_rate[i] = lane_of(de, l);
+#ifdef SPH_XSPH
+        xsph_velocity[i] = run->xsph_epsilon *
+                           vec_make(lane_of(xsph[0], l), lane_of(xsph[1], l), lane_of(xsph[2], l));
+#else
+        xsph_velocity[i] = VEC_ZERO;
+#endif
+    }
+}
+
+#endif /* SPH_LANES */
