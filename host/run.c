@@ -49,6 +49,7 @@ struct loop {
     double final_length, footprint_radius, max_plastic_strain, max_temperature;
     double min_pair_distance, max_clumped, max_swegle;
     double first_unhealthy_time; /* s; < 0 while healthy */
+    int stop_unhealthy;          /* a snapshot found a tear and health.stop asks to stop */
     struct ballistics_track ballistics;
     char unhealthy_reason[256];
     struct reduction red;
@@ -196,7 +197,25 @@ static void measure_integrity(struct loop *L)
     int lost = 0;
     for (int p = 0; p < L->s->n_real; ++p) /* failed material may separate */
         lost += 3 * L->neighbours[p] < 2 * L->initial_neighbours[p] && !L->damaged[p];
-    L->max_neighbour_loss = fmax(L->max_neighbour_loss, (double)lost / L->s->n_real);
+    const double fraction = (double)lost / L->s->n_real;
+    L->max_neighbour_loss = fmax(L->max_neighbour_loss, fraction);
+    if (lost == 0 || L->first_unhealthy_time >= 0)
+        return;
+    /* a tear is seen at snapshot times only (it needs the neighbour counts) */
+    L->first_unhealthy_time = L->t;
+    snprintf(L->unhealthy_reason, sizeof L->unhealthy_reason,
+             "torn: %.3g%% of particles lost a third of their initial neighbours (seen at the "
+             "snapshot at step %ld)",
+             100 * fraction, L->step);
+    if (!L->opt->quiet)
+        fprintf(stderr, "\nsph: unhealthy at t = %.6e s, step %ld: %s\n", L->t, L->step,
+                L->unhealthy_reason);
+    if (!L->c->health.stop)
+        return;
+    snprintf(L->message, sizeof L->message, "stopped unhealthy at step %ld, t = %.6e s: %s",
+             L->step, L->t, L->unhealthy_reason);
+    L->status = "unhealthy";
+    L->stop_unhealthy = 1;
 }
 
 /* Impact figures from a snapshot: the body's extent along walls[0]'s
@@ -460,6 +479,8 @@ static int time_loop(struct loop *L)
                 return 1;
             }
             L->next_snapshot += o->snapshot_interval;
+            if (L->stop_unhealthy)
+                return 3;
         }
         progress(L, 0);
     }

@@ -43,7 +43,7 @@ grid_bounds(__global const vec *restrict pos, __global real *restrict partials, 
     __local real lo[REDUCE_WG][3], hi[REDUCE_WG][3];
     const int lid = get_local_id(0);
     real mn[3] = {INFINITY, INFINITY, INFINITY}, mx[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (int i = get_global_id(0); i < n; i += get_global_size(0))
+    FOR_GROUP_BLOCK (i, n)
         for (int a = 0; a < SPH_DIM; ++a) {
             const real x = vec_get(pos[i], a);
             mn[a] = fmin(mn[a], x);

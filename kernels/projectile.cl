@@ -45,7 +45,7 @@ projectile_contact(__global const vec *restrict pos, __global const vec *restric
     const vec sphere_velocity =
         vec_make(state[SPH_PROJ_V], state[SPH_PROJ_V + 1], state[SPH_PROJ_V + 2]);
     const real k2 = stiffness_speed * stiffness_speed;
-    for (int i = get_global_id(0); i < n; i += get_global_size(0)) {
+    FOR_GROUP_BLOCK (i, n) {
         const int flag = flags[i];
         if (flag & (SPH_FLAG_GHOST | SPH_FLAG_FIXED))
             continue;
@@ -154,7 +154,7 @@ projectile_cavity(__global const vec *restrict pos, __global const int *restrict
     }
     const vec o = vec_make(origin.x, origin.y, origin.z);
     const vec u = vec_make(axis.x, axis.y, axis.z);
-    for (int i = get_global_id(0); i < n; i += get_global_size(0)) {
+    FOR_GROUP_BLOCK (i, n) {
         const int flag = flags[i];
         if (flag & SPH_FLAG_GHOST)
             continue;

@@ -31,7 +31,7 @@ reduce_step(__global const vec *restrict pos, __global const vec *restrict pos_a
         mine[k] = 0;
     mine[SPH_RED_BAD_INDEX] = (real)INT_MAX;
     const vec f = vec_make(load_force.x, load_force.y, load_force.z);
-    for (int i = get_global_id(0); i < n; i += get_global_size(0)) {
+    FOR_GROUP_BLOCK (i, n) {
         const int flag = flags[i];
         if (flag & SPH_FLAG_GHOST)
             continue;
@@ -165,7 +165,7 @@ health_indicators(__global const vec *restrict pos, __global const real *restric
     for (int k = 0; k < SPH_HEALTH_SLOTS; ++k)
         mine[k] = health_slot_is_min(k) ? (real)INFINITY : (real)0;
     const real q2 = (run->support / run->h) * (run->support / run->h);
-    for (int i = get_global_id(0); i < n; i += get_global_size(0)) {
+    FOR_GROUP_BLOCK (i, n) {
         if (flags[i] & (SPH_FLAG_GHOST | SPH_FLAG_FIXED))
             continue;
         const vec xi = pos[i];
