@@ -436,11 +436,17 @@ static void print_summary_line(const struct run_summary *sum, const char *folder
         printf(" (unhealthy from t = %.4g s: %s)", sum->first_unhealthy_time,
                sum->unhealthy_reason);
     if (sum->has_probe) {
-        printf(" | %s final %.4f mm, mean %.4f mm", sum->probe_name, 1e3 * sum->probe_final,
-               1e3 * sum->probe_mean);
-        if (sum->has_reference)
-            printf(" vs reference %.4f mm: e_av %.2f%%, final error %.2f%%", 1e3 * sum->reference,
-                   100 * sum->reference_e_av, 100 * sum->reference_error_final);
+        printf(" | %s final %.4f mm", sum->probe_name, 1e3 * sum->probe_final);
+        if (isnan(sum->probe_mean)) /* the run ended before the averaging window */
+            printf(", no mean (window not reached)");
+        else
+            printf(", mean %.4f mm", 1e3 * sum->probe_mean);
+        if (sum->has_reference) {
+            printf(" vs reference %.4f mm: ", 1e3 * sum->reference);
+            if (!isnan(sum->reference_e_av))
+                printf("e_av %.2f%%, ", 100 * sum->reference_e_av);
+            printf("final error %.2f%%", 100 * sum->reference_error_final);
+        }
     }
     printf(" | %d particles, %ld steps, %.1f s wall, %.0f steps/s | %s\n", sum->particles,
            sum->steps, sum->wall_time_s, sum->steps_per_s, folder);

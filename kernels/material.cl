@@ -175,7 +175,10 @@ __kernel void material_update(
     __global symt *restrict artificial_stress, const int n)
 {
     const int i = get_global_id(0);
-    if (i >= n)
+    /* a ghost's state is copied from its particle at the next refresh, and
+     * its velocity gradient is not computed: nothing to update (a third of
+     * the slots of a quarter 3-D bar) */
+    if (i >= n || (flags[i] & SPH_FLAG_GHOST))
         return;
     __constant const struct sph_material *m = &materials[material[i]];
     real s[3][3], l[3][3], d[3][3], w[3][3], rate[3][3];
