@@ -137,15 +137,17 @@ static inline realv shape_dq_v(realv q)
     return select((real)-3 * t * t, (real)3 * q * q - (real)6, q <= one);
 }
 
-static inline realv kernel_w_v(realv r, real h)
+/* W and dW/dr of q = r / h: the pair loops form q with a product by 1 / h
+ * and keep their divisions out of the per-candidate work, since a vector
+ * division costs many multiply-adds on a CPU (docs/performance.md). */
+static inline realv kernel_w_q_v(realv q, real h)
 {
-    return sph_kernel_sigma(SPH_KERNEL, SPH_DIM) * sph_inv_h_pow(h, SPH_DIM) * shape_v(r / h);
+    return sph_kernel_sigma(SPH_KERNEL, SPH_DIM) * sph_inv_h_pow(h, SPH_DIM) * shape_v(q);
 }
 
-static inline realv kernel_dwdr_v(realv r, real h)
+static inline realv kernel_dwdr_q_v(realv q, real h)
 {
-    return sph_kernel_sigma(SPH_KERNEL, SPH_DIM) * sph_inv_h_pow(h, SPH_DIM) / h *
-           shape_dq_v(r / h);
+    return sph_kernel_sigma(SPH_KERNEL, SPH_DIM) * sph_inv_h_pow(h, SPH_DIM) / h * shape_dq_v(q);
 }
 
 /* The lanes of work-item `group`: the first particle, which lanes hold a
@@ -249,7 +251,7 @@ __kernel void pass1_lanes(__global const vec *restrict pos, __global const vec *
     if ((int)get_global_id(0) * SPH_LANES >= n ||
         !lane_block_setup(&b, flags, sort_keys, grid_dims, n))
         return;
-    const real h = run->h, support2 = run->support * run->support;
+    const real h = run->h, inv_h = (real)1 / h, support2 = run->support * run->support;
     realv xi[3], vi[3];
     gather_vec(pos, &b, n, xi);
     gather_vec(vel, &b, n, vi);
@@ -273,7 +275,7 @@ __kernel void pass1_lanes(__global const vec *restrict pos, __global const vec *
         const realv r = sqrt(r2);
         const real volume = mass[j] / rho[j];
         /* grad_i W_ij = dW/dr x_ij / r; zero for lanes out of reach */
-        const realv dwdr_r = select((realv)0, kernel_dwdr_v(r, h) / r, near);
+        const realv dwdr_r = select((realv)0, kernel_dwdr_q_v(r * inv_h, h) / r, near);
         const vec vj = vel[j];
 #pragma unroll
         for (int a = 0; a < SPH_DIM; ++a) {
@@ -354,7 +356,7 @@ static inline void gather_fullt(__global const fullt *restrict f, const struct l
 static inline realv artificial_stress_weight_v(realv r, real h,
                                                __constant const struct sph_run_params *run)
 {
-    const realv f = kernel_w_v(r, h) * run->as_inv_w_dx;
+    const realv f = kernel_w_q_v(r * ((real)1 / h), h) * run->as_inv_w_dx;
     realv fn = (realv)1;
     for (int k = 0; k < run->as_exponent; ++k)
         fn *= f;
@@ -381,11 +383,12 @@ pass2_lanes(__global const vec *restrict pos, __global const vec *restrict pos0,
     if ((int)get_global_id(0) * SPH_LANES >= n ||
         !lane_block_setup(&b, flags, sort_keys, grid_dims, n))
         return;
-    const real h = run->h, support2 = run->support * run->support;
+    const real h = run->h, inv_h = (real)1 / h, support2 = run->support * run->support;
     realv xi[3], vi[3], sigma_i[3][3];
     gather_vec(pos, &b, n, xi);
     gather_vec(vel, &b, n, vi);
-    const realv rho_i = select((realv)1, gather_real(rho, &b, n), b.live);
+    const realv rho_i = select((realv)1, gather_real(rho, &b, n), b.live),
+                inv_rho_i = (real)1 / rho_i;
     gather_symt(deviatoric_stress, &b, n, sigma_i);
     {
         const realv p_i = gather_real(pressure, &b, n);
@@ -437,16 +440,17 @@ pass2_lanes(__global const vec *restrict pos, __global const vec *restrict pos0,
 #pragma unroll
         for (int a = 0; a < 3; ++a)
             vij[a] = a < SPH_DIM ? vi[a] - vec_get(vj, a) : (realv)0;
-        const real rho_j = rho[j], m_j = mass[j];
-        const realv rho_mean = (real)0.5 * (rho_i + rho_j);
+        const real rho_j = rho[j], m_j = mass[j], m_over_rho_j = m_j / rho_j;
+        const realv inv_rho_mean = (real)2 / (rho_i + rho_j);
         /* Monaghan (1992) viscosity, approaching pairs only */
         const realv vr = vij[0] * xij[0] + vij[1] * xij[1] + vij[2] * xij[2];
         const realv mu = h * vr / (r2 + (real)0.01 * h * h);
         const realv c_mean = (real)0.5 * (c_i + materials[material[j]].sound_speed);
         const realv pi_ij =
-            select((realv)0, (-run->av_alpha * c_mean * mu + run->av_beta * mu * mu) / rho_mean,
+            select((realv)0, (-run->av_alpha * c_mean * mu + run->av_beta * mu * mu) * inv_rho_mean,
                    vr < (real)0);
-        const realv dwdr_r = select((realv)0, kernel_dwdr_v(r, h) / r, near);
+        const realv q = r * inv_h;
+        const realv dwdr_r = select((realv)0, kernel_dwdr_q_v(q, h) / r, near);
         realv grad[3], g_i[3], g_j[3];
 #pragma unroll
         for (int a = 0; a < 3; ++a)
@@ -513,14 +517,14 @@ pass2_lanes(__global const vec *restrict pos, __global const vec *restrict pos0,
 #endif
 #pragma unroll
         for (int a = 0; a < SPH_DIM; ++a) {
-            acc[a] += (m_j * t_i[a] + m_j * t_j[a] / rho_i) / rho_j + m_j * extra[a];
+            acc[a] += m_over_rho_j * (t_i[a] + t_j[a] * inv_rho_i) + m_j * extra[a];
             de -= (real)0.5 * m_j * vij[a] * extra[a];
         }
 #ifdef SPH_XSPH
-        const realv w = select((realv)0, kernel_w_v(r, h), near);
+        const realv w = select((realv)0, kernel_w_q_v(q, h), near);
 #pragma unroll
         for (int a = 0; a < SPH_DIM; ++a)
-            xsph[a] -= (m_j / rho_mean * w) * vij[a];
+            xsph[a] -= (m_j * inv_rho_mean * w) * vij[a];
 #endif
     }
     END_FOR_EACH_LANE_NEIGHBOUR
