@@ -340,7 +340,7 @@ def lammps(args, dx, steps, work, threads, found):
         log("LAMMPS skipped: " + note)
         return dict(code="LAMMPS", skipped=note)
     _, help_text = lmp_has_machdyn(lmp)
-    version = (help_text.splitlines() or ["?"])[0].strip()
+    version = next((line.strip() for line in help_text.splitlines() if line.strip()), "?")
     (x0, _), (z0, nz) = lattice_axis(-RADIUS, RADIUS, dx), lattice_axis(0.0, LENGTH, dx)
     frac = lambda v: round((v / dx) % 1.0, 9) % 1.0  # noqa: E731
     text = LAMMPS_INPUT.format(

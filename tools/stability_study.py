@@ -67,6 +67,14 @@ def verdict(s):
     return 0 if s.get("healthy") else 1
 
 
+def reason_letter(reason):
+    """The map's one-letter tag of why a run went unhealthy (host/run.c's reasons)."""
+    for start, letter in (("torn", "T"), ("smallest pair", "P"), ("energy", "E")):
+        if reason.startswith(start):
+            return letter
+    return "C"  # clumped
+
+
 def run_one(case, out, sets, max_wall):
     """studylib.run, or with max_wall > 0 the same run stopped after max_wall seconds (a
     beam torn apart can crawl on at a hundredth of its time step); a stopped run's row
@@ -137,7 +145,9 @@ def run_case(args, name):
                 s = json.load(f)
         else:
             s = run_one(os.path.join(ROOT, "cases", case), out, sets, args.max_wall)
-        grid[(kernel, stress, csph, h)] = verdict(s)
+        onset = s.get("first_unhealthy_time_s")
+        reason = s.get("unhealthy_reason") or ""
+        grid[(kernel, stress, csph, h)] = (verdict(s), onset, reason_letter(reason))
         rows.append([kernel, stress, csph, h, s["status"], s.get("healthy"),
                      s.get("first_unhealthy_time_s", ""), s.get("unhealthy_reason", ""),
                      round(s.get("max_clumped_fraction", float("nan")), 4),
@@ -168,9 +178,14 @@ def plot_map(folder, name, args, grid):
     for ax, h in zip(axes[0], args.h):
         for r, kernel in enumerate(args.kernels):
             for c, (stress, csph) in enumerate(columns):
-                v = grid.get((kernel, stress, csph, h))
-                if v is not None:
-                    ax.add_patch(plt.Rectangle((c, r), 1, 1, color=colours[v]))
+                cell = grid.get((kernel, stress, csph, h))
+                if cell is None:
+                    continue
+                v, onset, kind = cell
+                ax.add_patch(plt.Rectangle((c, r), 1, 1, color=colours[v]))
+                if onset is not None and v != 0:  # when it first went unhealthy, and how
+                    ax.text(c + 0.5, r + 0.5, f"{kind} {1e6 * onset:.0f} us", ha="center",
+                            va="center", fontsize=6)
         ax.set_xlim(0, len(columns))
         ax.set_ylim(len(args.kernels), 0)
         ax.set_xticks([c + 0.5 for c in range(len(columns))])
@@ -179,9 +194,10 @@ def plot_map(folder, name, args, grid):
         ax.set_yticklabels(args.kernels if ax is axes[0][0] else [], fontsize=7)
         ax.set_title(f"{name}, h = {h:g} dx", fontsize=9)
     handles = [plt.Rectangle((0, 0), 1, 1, color=c) for c in colours]
-    fig.legend(handles, ["healthy", "clumped / torn", "blew up", "stopped (wall limit)"],
-               loc="lower center", ncol=4, fontsize=8)
-    fig.tight_layout(rect=(0, 0.08, 1, 1))
+    fig.legend(handles, ["healthy", "unhealthy from the time shown (C clumped, T torn, "
+                         "P pair distance, E energy)", "blew up", "stopped (wall limit)"],
+               loc="lower center", ncol=2, fontsize=7)
+    fig.tight_layout(rect=(0, 0.12, 1, 1))
     fig.savefig(os.path.join(folder, f"{name}_map.png"), dpi=110)
 
 
