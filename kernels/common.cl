@@ -155,6 +155,23 @@ static inline int4 grid_cell_coords(int cell, int4 dims)
     return c;
 }
 
+/* The particles of cells x0..x1 of one grid row, [x, y): a row's cells are
+ * contiguous in the sorted order; (-1, -1) when every cell is empty. */
+static inline int2 cell_row_span(__global const int *restrict cell_start,
+                                 __global const int *restrict cell_end, int row, int x0, int x1)
+{
+    int first = -1, last = -1;
+    for (int cx = x0; cx <= x1; ++cx) {
+        const int s = cell_start[row + cx];
+        if (s < 0)
+            continue;
+        if (first < 0)
+            first = s;
+        last = cell_end[row + cx];
+    }
+    return (int2)(first, last);
+}
+
 #if SPH_DIM == 2
 #define GRID_DZ 0
 #else
@@ -196,19 +213,10 @@ static inline int4 grid_cell_coords(int cell, int4 dims)
                 if (cy_ < 0 || cy_ >= grid_dims.y)                                                 \
                     continue;                                                                      \
                 const int row_ = (cz_ * grid_dims.y + cy_) * grid_dims.x;                          \
-                const int x0_ = max(home_.x - reach_, 0);                                          \
-                const int x1_ = min(home_.x + reach_, grid_dims.x - 1);                            \
-                /* cells x0..x1 of one row are contiguous in the sorted order */                   \
-                int first_ = -1, last_ = -1;                                                       \
-                for (int cx_ = x0_; cx_ <= x1_; ++cx_) {                                           \
-                    const int s_ = cell_start[row_ + cx_];                                         \
-                    if (s_ < 0)                                                                    \
-                        continue;                                                                  \
-                    if (first_ < 0)                                                                \
-                        first_ = s_;                                                               \
-                    last_ = cell_end[row_ + cx_];                                                  \
-                }                                                                                  \
-                for (int j = first_; j < last_; ++j) {
+                const int2 span_ =                                                                 \
+                    cell_row_span(cell_start, cell_end, row_, max(home_.x - reach_, 0),            \
+                                  min(home_.x + reach_, grid_dims.x - 1));                         \
+                for (int j = span_.x; j < span_.y; ++j) {
 
 #define END_FOR_EACH_NEIGHBOUR                                                                     \
     }                                                                                              \

@@ -194,18 +194,10 @@ static inline int lane_block_setup(struct lane_block *b, __global const int *res
         for (int cy_ = max((b).lo.y - SPH_GRID_SPLIT, 0);                                          \
              cy_ <= min((b).hi.y + SPH_GRID_SPLIT, grid_dims.y - 1); ++cy_) {                      \
             const int row_ = (cz_ * grid_dims.y + cy_) * grid_dims.x;                              \
-            const int x0_ = max((b).lo.x - SPH_GRID_SPLIT, 0);                                     \
-            const int x1_ = min((b).hi.x + SPH_GRID_SPLIT, grid_dims.x - 1);                       \
-            int first_ = -1, last_ = -1;                                                           \
-            for (int cx_ = x0_; cx_ <= x1_; ++cx_) {                                               \
-                const int s_ = cell_start[row_ + cx_];                                             \
-                if (s_ < 0)                                                                        \
-                    continue;                                                                      \
-                if (first_ < 0)                                                                    \
-                    first_ = s_;                                                                   \
-                last_ = cell_end[row_ + cx_];                                                      \
-            }                                                                                      \
-            for (int j = first_; j < last_; ++j) {
+            const int2 span_ =                                                                     \
+                cell_row_span(cell_start, cell_end, row_, max((b).lo.x - SPH_GRID_SPLIT, 0),       \
+                              min((b).hi.x + SPH_GRID_SPLIT, grid_dims.x - 1));                    \
+            for (int j = span_.x; j < span_.y; ++j) {
 
 #define END_FOR_EACH_LANE_NEIGHBOUR                                                                \
     }                                                                                              \
@@ -308,6 +300,26 @@ __kernel void pass1_lanes(__global const vec *restrict pos, __global const vec *
     }
 }
 
+/* The lanes' 3 x 3 tensors as vectors: lane l's tensor t goes in with
+ * lanes_put_tensor, the vectors come out with lanes_get_tensor. */
+static inline void lanes_put_tensor(lanes_union u[3][3], int l, real t[3][3])
+{
+#pragma unroll
+    for (int a = 0; a < 3; ++a)
+#pragma unroll
+        for (int c = 0; c < 3; ++c)
+            u[a][c].s[l] = t[a][c];
+}
+
+static inline void lanes_get_tensor(lanes_union u[3][3], realv out[3][3])
+{
+#pragma unroll
+    for (int a = 0; a < 3; ++a)
+#pragma unroll
+        for (int c = 0; c < 3; ++c)
+            out[a][c] = u[a][c].v;
+}
+
 /* A 3 x 3 tensor per lane from a symmetric-tensor field. */
 static inline void gather_symt(__global const symt *restrict f, const struct lane_block *b, int n,
                                realv out[3][3])
@@ -316,20 +328,13 @@ static inline void gather_symt(__global const symt *restrict f, const struct lan
     for (int l = 0; l < SPH_LANES; ++l) {
         real t[3][3];
         symt_load(b->first + l < n ? f[b->first + l] : (symt)0, t);
-#pragma unroll
-        for (int a = 0; a < 3; ++a)
-#pragma unroll
-            for (int c = 0; c < 3; ++c)
-                u[a][c].s[l] = t[a][c];
+        lanes_put_tensor(u, l, t);
     }
-#pragma unroll
-    for (int a = 0; a < 3; ++a)
-#pragma unroll
-        for (int c = 0; c < 3; ++c)
-            out[a][c] = u[a][c].v;
+    lanes_get_tensor(u, out);
 }
 
 #ifdef SPH_CSPH
+/* The same from a full-tensor field. */
 static inline void gather_fullt(__global const fullt *restrict f, const struct lane_block *b, int n,
                                 realv out[3][3])
 {
@@ -337,17 +342,9 @@ static inline void gather_fullt(__global const fullt *restrict f, const struct l
     for (int l = 0; l < SPH_LANES; ++l) {
         real t[3][3];
         fullt_load(b->first + l < n ? f[b->first + l] : (fullt)0, t);
-#pragma unroll
-        for (int a = 0; a < 3; ++a)
-#pragma unroll
-            for (int c = 0; c < 3; ++c)
-                u[a][c].s[l] = t[a][c];
+        lanes_put_tensor(u, l, t);
     }
-#pragma unroll
-    for (int a = 0; a < 3; ++a)
-#pragma unroll
-        for (int c = 0; c < 3; ++c)
-            out[a][c] = u[a][c].v;
+    lanes_get_tensor(u, out);
 }
 #endif
 
