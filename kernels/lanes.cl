@@ -203,6 +203,19 @@ static inline int lane_block_setup(struct lane_block *b, __global const int *res
     }                                                                                              \
     }
 
+/* x_i - x_j and its square for every lane against candidate j, and the
+ * lanes for which j is a neighbour (live, not j itself, within the
+ * support). */
+static inline maskv lane_pair(realv xi[3], vec xj, int j, const struct lane_block *b, real support2,
+                              realv xij[3], realv *r2)
+{
+#pragma unroll
+    for (int a = 0; a < 3; ++a)
+        xij[a] = a < SPH_DIM ? xi[a] - vec_get(xj, a) : (realv)0;
+    *r2 = xij[0] * xij[0] + xij[1] * xij[1] + xij[2] * xij[2];
+    return (*r2 < support2) & b->live & (b->index != (maskv)j);
+}
+
 /* One lane's particle data gathered into vectors: a real field. */
 static inline realv gather_real(__global const real *restrict f, const struct lane_block *b, int n)
 {
@@ -255,13 +268,8 @@ __kernel void pass1_lanes(__global const vec *restrict pos, __global const vec *
             grad_v[a][c] = moment[a][c] = (realv)0;
     FOR_EACH_LANE_NEIGHBOUR(b, j)
     {
-        const vec xj = pos[j];
-        realv xij[3];
-#pragma unroll
-        for (int a = 0; a < 3; ++a)
-            xij[a] = a < SPH_DIM ? xi[a] - vec_get(xj, a) : (realv)0;
-        const realv r2 = xij[0] * xij[0] + xij[1] * xij[1] + xij[2] * xij[2];
-        const maskv near = (r2 < support2) & b.live & (b.index != (maskv)j);
+        realv xij[3], r2;
+        const maskv near = lane_pair(xi, pos[j], j, &b, support2, xij, &r2);
         if (!any(near))
             continue;
         const realv r = sqrt(r2);
@@ -422,13 +430,8 @@ pass2_lanes(__global const vec *restrict pos, __global const vec *restrict pos0,
     realv de = (realv)0;
     FOR_EACH_LANE_NEIGHBOUR(b, j)
     {
-        const vec xj = pos[j];
-        realv xij[3];
-#pragma unroll
-        for (int a = 0; a < 3; ++a)
-            xij[a] = a < SPH_DIM ? xi[a] - vec_get(xj, a) : (realv)0;
-        const realv r2 = xij[0] * xij[0] + xij[1] * xij[1] + xij[2] * xij[2];
-        const maskv near = (r2 < support2) & b.live & (b.index != (maskv)j);
+        realv xij[3], r2;
+        const maskv near = lane_pair(xi, pos[j], j, &b, support2, xij, &r2);
         if (!any(near))
             continue;
         const realv r = sqrt(r2);
