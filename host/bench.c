@@ -51,7 +51,7 @@ static const struct bench_scene {
 
 struct scene_result {
     const char *name;
-    int dimension, particles, slots;
+    int dimension, particles, ghosts, slots; /* slots: allocated (ghosts and room) */
     double neighbours_mean;
     long steps;
     int repeats;
@@ -63,16 +63,17 @@ struct scene_result {
     struct profiler profile;
 };
 
+static int ascending(const void *a, const void *b)
+{
+    const double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
 static double median(const double *v, int count)
 {
     double sorted[BENCH_MAX_REPEATS];
     memcpy(sorted, v, sizeof(double) * (size_t)count);
-    for (int a = 1; a < count; ++a)
-        for (int b = a; b > 0 && sorted[b - 1] > sorted[b]; --b) {
-            const double t = sorted[b];
-            sorted[b] = sorted[b - 1];
-            sorted[b - 1] = t;
-        }
+    qsort(sorted, (size_t)count, sizeof sorted[0], ascending);
     return count % 2 ? sorted[count / 2] : 0.5 * (sorted[count / 2 - 1] + sorted[count / 2]);
 }
 
@@ -81,13 +82,11 @@ static double median(const double *v, int count)
 static int bench_step(struct solver *s, double cfl, struct reduction *red, double *dt_prev,
                       char *error, size_t error_size)
 {
-    if (solver_needs_sort(s, red) && solver_sort(s, error, error_size))
-        return 1;
     const double no_load[3] = {0, 0, 0};
     const double dt = cfl * s->run.h / red->max_signal;
-    solver_step(s, dt, *dt_prev, no_load);
+    if (solver_advance(s, dt, *dt_prev, no_load, red, error, error_size))
+        return 1;
     *dt_prev = dt;
-    solver_reduce(s, no_load, red);
     if (!(red->max_signal > 0) || !isfinite(red->max_signal) || red->bad_id >= 0) {
         snprintf(error, error_size, "the scene went unstable during the benchmark");
         return 1;
@@ -171,9 +170,10 @@ static int run_scene(struct sph_device *dev, const struct bench_scene *b,
         r->bytes_per_slot = solver_bytes_per_particle(&s);
         solver_memory_breakdown(&s, &r->memory);
         r->device_bytes = (double)r->bytes_per_slot * s.capacity;
-        fprintf(stderr, "sph bench: %s: %d particles (%d slots with ghosts), %d-D ...\n", b->name,
+        fprintf(stderr, "sph bench: %s: %d particles, %d slots allocated, %d-D ...\n", b->name,
                 s.n_real, s.capacity, c->dimension);
         failed = step_scene(&s, c, o, r, error, error_size);
+        r->ghosts = s.n - s.n_real; /* the mirror images of the last sort */
         solver_release(&s);
     }
     scene_free(&scene);
@@ -184,10 +184,11 @@ static int run_scene(struct sph_device *dev, const struct bench_scene *b,
 static void print_scene(const struct scene_result *r, const struct device_ceilings *ceil)
 {
     const double pairs = r->neighbours_mean * r->particles;
-    printf("\n%s: %d particles, %.1f neighbours, %d x %ld steps: %.3f ms/step (median), "
+    printf("\n%s: %d particles (and %d mirror ghosts), %.1f neighbours, %d x %ld steps: %.3f "
+           "ms/step (median), "
            "%.3g particle-steps/s, %.3g pair interactions/s, %.0f B/particle of device "
            "memory\n",
-           r->name, r->particles, r->neighbours_mean, r->repeats, r->steps / r->repeats,
+           r->name, r->particles, r->ghosts, r->neighbours_mean, r->repeats, r->steps / r->repeats,
            1e3 * r->median_s, r->particles / r->median_s, pairs / r->median_s,
            r->device_bytes / r->particles);
     profile_print(&r->profile, ceil, r->steps, stdout);
@@ -206,10 +207,11 @@ static void write_scene_json(const struct scene_result *r, FILE *f)
 {
     const double pairs = r->neighbours_mean * r->particles;
     fprintf(f,
-            "    {\"name\": \"%s\", \"dimension\": %d, \"particles\": %d, \"slots\": %d, "
+            "    {\"name\": \"%s\", \"dimension\": %d, \"particles\": %d, \"ghosts\": %d, "
+            "\"slots\": %d, "
             "\"neighbours_mean\": %.4g, \"steps\": %ld, \"repeats\": %d,\n     "
             "\"seconds_per_step\": [",
-            r->name, r->dimension, r->particles, r->slots, r->neighbours_mean,
+            r->name, r->dimension, r->particles, r->ghosts, r->slots, r->neighbours_mean,
             r->steps / r->repeats, r->repeats);
     for (int k = 0; k < r->repeats; ++k)
         fprintf(f, "%s%.6g", k ? ", " : "", r->seconds_per_step[k]);

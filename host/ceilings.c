@@ -2,7 +2,6 @@
  * on the host clock, best of five, cached per device in the user cache. */
 #include "profile.h"
 
-#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -20,8 +19,9 @@ static double best_time(struct sph_device *dev, cl_kernel k, size_t items)
         const double t0 = profile_clock();
         CL_CHECK(clEnqueueNDRangeKernel(dev->queue, k, 1, NULL, &items, &local, 0, NULL, NULL));
         CL_CHECK(clFinish(dev->queue));
-        if (r > 0 && profile_clock() - t0 < best)
-            best = profile_clock() - t0;
+        const double t = profile_clock() - t0;
+        if (r > 0 && t < best)
+            best = t;
     }
     return best;
 }
@@ -59,23 +59,11 @@ static double measure_fma(struct sph_device *dev, cl_kernel fma)
     return 192.0 * FMA_ITEMS * FMA_ITERATIONS / t / 1e9;
 }
 
-static void ceilings_path(const struct sph_device *dev, char *path, size_t size)
-{
-    uint64_t h = 14695981039346656037ull;
-    const char *parts[] = {dev->name, dev->driver_version, dev->platform_name};
-    for (int k = 0; k < 3; ++k)
-        for (const char *c = parts[k]; *c; ++c)
-            h = (h ^ (unsigned char)*c) * 1099511628211ull;
-    char folder[1024];
-    device_cache_folder(folder, sizeof folder);
-    snprintf(path, size, "%s/ceilings-%016llx.txt", folder, (unsigned long long)h);
-}
-
 int device_ceilings(struct sph_device *dev, struct device_ceilings *out, char *error,
                     size_t error_size)
 {
     char path[1200];
-    ceilings_path(dev, path, sizeof path);
+    device_cache_file(dev, "ceilings", "", "", "txt", path, sizeof path);
     FILE *f = fopen(path, "r");
     if (f) {
         const int got = fscanf(f, "%lf %lf", &out->bandwidth_gb_s, &out->gflop_s);

@@ -318,18 +318,18 @@ void device_cache_folder(char *folder, size_t size)
         snprintf(folder, size, "%s/.cache/impact-sph", getenv("HOME") ? getenv("HOME") : "/tmp");
 }
 
-static void cache_path(const struct sph_device *dev, const char *source, const char *options,
-                       char *path, size_t size)
+void device_cache_file(const struct sph_device *dev, const char *stem, const char *key1,
+                       const char *key2, const char *suffix, char *path, size_t size)
 {
     uint64_t h = 14695981039346656037ull;
-    h = fnv1a(h, source, strlen(source));
-    h = fnv1a(h, options, strlen(options));
+    h = fnv1a(h, key1, strlen(key1));
+    h = fnv1a(h, key2, strlen(key2));
     h = fnv1a(h, dev->name, strlen(dev->name));
     h = fnv1a(h, dev->driver_version, strlen(dev->driver_version));
     h = fnv1a(h, dev->platform_name, strlen(dev->platform_name));
     char folder[1024];
     device_cache_folder(folder, sizeof folder);
-    snprintf(path, size, "%s/program-%016llx.bin", folder, (unsigned long long)h);
+    snprintf(path, size, "%s/%s-%016llx.%s", folder, stem, (unsigned long long)h, suffix);
 }
 
 void device_make_parent_dirs(const char *path)
@@ -417,7 +417,7 @@ int device_build(struct sph_device *dev, const char *source_dir, const char *opt
     if (!source)
         return 1;
     char path[1100];
-    cache_path(dev, source, options, path, sizeof path);
+    device_cache_file(dev, "program", source, options, "bin", path, sizeof path);
     dev->program = load_cached(dev, path, options);
     dev->from_cache = dev->program != NULL;
     if (!dev->program) {

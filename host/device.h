@@ -71,6 +71,11 @@ void device_close(struct sph_device *dev);
  * else ~/.cache/impact-sph (program binaries, device ceilings). */
 void device_cache_folder(char *folder, size_t size);
 
+/* The path of a file in the cache folder, stem-<hash>.suffix, the hash of
+ * key1, key2 (may be "") and the device, its driver and its platform. */
+void device_cache_file(const struct sph_device *dev, const char *stem, const char *key1,
+                       const char *key2, const char *suffix, char *path, size_t size);
+
 /* Creates the folders above `path` (a file path). */
 void device_make_parent_dirs(const char *path);
 

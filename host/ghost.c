@@ -8,7 +8,7 @@
  * `width` of one plane, two planes (and of their corner) or three, and the
  * images take the slots after the reals. The cell sort then mixes them with
  * the reals like any particle; index_of_id finds both again. */
-#include "profile.h"
+#include "launch.h"
 #include "solver.h"
 
 #include <math.h>
@@ -118,19 +118,13 @@ static void set_arg(cl_kernel k, cl_uint index, size_t size, const void *value)
     CL_CHECK(clSetKernelArg(k, index, size, value));
 }
 
-static void set_mem(cl_kernel k, cl_uint index, const cl_mem *buffer)
-{
-    CL_CHECK(clSetKernelArg(k, index, sizeof(cl_mem), buffer));
-    profile_note_buffer(*buffer);
-}
-
 void solver_ghosts_reindex(struct solver *s)
 {
     struct ghosts *g = &s->ghosts;
     if (g->plane_count == 0)
         return;
-    set_mem(g->index_kernel, 0, &s->field[FIELD_ID]);
-    set_mem(g->index_kernel, 1, &g->index_of_id);
+    set_buffer_arg(g->index_kernel, 0, &s->field[FIELD_ID]);
+    set_buffer_arg(g->index_kernel, 1, &g->index_of_id);
     set_arg(g->index_kernel, 2, sizeof(cl_int), &s->n);
     solver_launch(s, g->index_kernel, (size_t)s->n, 0);
 }
@@ -144,10 +138,10 @@ static void refresh_field(struct solver *s, enum field f)
         return;
     cl_kernel k = g->refresh[info->kind];
     cl_uint a = 0;
-    set_mem(k, a++, &s->field[f]);
-    set_mem(k, a++, &g->source_id);
-    set_mem(k, a++, &g->mask);
-    set_mem(k, a++, &g->index_of_id);
+    set_buffer_arg(k, a++, &s->field[f]);
+    set_buffer_arg(k, a++, &g->source_id);
+    set_buffer_arg(k, a++, &g->mask);
+    set_buffer_arg(k, a++, &g->index_of_id);
     set_arg(k, a++, sizeof(cl_int), &s->n_real);
     set_arg(k, a++, sizeof(cl_int), &g->count);
     if (info->kind == ELEM_VEC) {
@@ -191,8 +185,8 @@ void solver_ghosts_refresh(struct solver *s, const enum field *fields, int count
 static void compact(struct solver *s)
 {
     struct ghosts *g = &s->ghosts;
-    set_mem(g->id_keys, 0, &s->field[FIELD_ID]);
-    set_mem(g->id_keys, 1, &s->sort_keys);
+    set_buffer_arg(g->id_keys, 0, &s->field[FIELD_ID]);
+    set_buffer_arg(g->id_keys, 1, &s->sort_keys);
     set_arg(g->id_keys, 2, sizeof(cl_int), &s->n);
     set_arg(g->id_keys, 3, sizeof(cl_int), &s->padded_n);
     solver_launch(s, g->id_keys, (size_t)s->padded_n, 0);
@@ -262,8 +256,8 @@ int solver_ghosts_rebuild(struct solver *s, char *error, size_t error_size)
                                       sizeof(int) * (size_t)count, source, 0, NULL, NULL));
         CL_CHECK(clEnqueueWriteBuffer(s->dev->queue, g->mask, CL_TRUE, 0,
                                       sizeof(int) * (size_t)count, mask, 0, NULL, NULL));
-        set_mem(g->init, 0, &s->field[FIELD_ID]);
-        set_mem(g->init, 1, &s->field[FIELD_FLAGS]);
+        set_buffer_arg(g->init, 0, &s->field[FIELD_ID]);
+        set_buffer_arg(g->init, 1, &s->field[FIELD_FLAGS]);
         set_arg(g->init, 2, sizeof(cl_int), &s->n_real);
         set_arg(g->init, 3, sizeof(cl_int), &g->count);
         solver_launch(s, g->init, (size_t)count, 0);

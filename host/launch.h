@@ -1,5 +1,5 @@
 /* Kernel-argument helpers shared by the host files that enqueue kernels
- * (step.c, ballistics.c): SET_ARGS(kernel, MEM(buf), INT(i), ...)
+ * (step.c, ballistics.c, ghost.c): SET_ARGS(kernel, MEM(buf), INT(i), ...)
  * sets every argument and checks each call; real_value and real4_value
  * pass a scalar or a 4-vector in the device precision. */
 #ifndef SPH_LAUNCH_H
@@ -24,12 +24,20 @@ struct arg {
     set_args((k), (struct arg[]){__VA_ARGS__},                                                     \
              (int)(sizeof((struct arg[]){__VA_ARGS__}) / sizeof(struct arg)))
 
+/* One buffer argument; a profiling run counts the buffer's bytes. */
+static inline void set_buffer_arg(cl_kernel k, cl_uint index, const cl_mem *buffer)
+{
+    CL_CHECK(clSetKernelArg(k, index, sizeof(cl_mem), buffer));
+    profile_note_buffer(*buffer);
+}
+
 static inline void set_args(cl_kernel k, const struct arg *args, int count)
 {
     for (int a = 0; a < count; ++a) {
-        CL_CHECK(clSetKernelArg(k, (cl_uint)a, args[a].size, args[a].value));
-        if (args[a].is_buffer && sph_profiler)
-            profile_note_buffer(*(const cl_mem *)args[a].value);
+        if (args[a].is_buffer)
+            set_buffer_arg(k, (cl_uint)a, (const cl_mem *)args[a].value);
+        else
+            CL_CHECK(clSetKernelArg(k, (cl_uint)a, args[a].size, args[a].value));
     }
 }
 

@@ -3,8 +3,10 @@
  * CL_QUEUE_PROFILING_ENABLE and asks for events, so a normal run pays
  * nothing. Each launch's event is kept until profile_flush, which waits for
  * them and adds end - start to its kernel's total. The bytes of a launch are
- * the sizes of the buffers it takes (each read or written once: the
- * compulsory traffic, a lower bound); the flops of the neighbour kernels are
+ * the sizes of the buffers it takes (as allocated: a kernel that reads part
+ * of a buffer, or not every argument, counts more than it moves, one that
+ * re-reads neighbours from memory counts less; a rough measure of traffic,
+ * not a bound); the flops of the neighbour kernels are
  * the pair interactions times the per-pair count of profile.c's table,
  * counted by hand from the kernel source. */
 #ifndef SPH_PROFILE_H
@@ -19,7 +21,7 @@ struct profile_kernel {
     char name[64];
     long calls;
     double device_s; /* sum of end - start, s */
-    double bytes;    /* compulsory traffic over all calls, B */
+    double bytes;    /* sizes of the buffers given, over all calls, B */
     double flops;    /* estimated floating-point operations over all calls */
 };
 

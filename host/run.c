@@ -334,15 +334,6 @@ static double total_energy(const struct loop *L)
 
 static int one_step(struct loop *L)
 {
-    if (solver_needs_sort(L->s, &L->red)) {
-        char error[512];
-        if (solver_sort(L->s, error, sizeof error)) {
-            snprintf(L->message, sizeof L->message, "unstable at step %ld, t = %.6e s: %s", L->step,
-                     L->t, error);
-            L->status = "unstable";
-            return 1;
-        }
-    }
     double load[3];
     load_vector(L, L->t, load); /* F(t^n): the kick of this step uses it */
     const double end = L->c->numerics.end_time;
@@ -350,11 +341,16 @@ static int one_step(struct loop *L)
     L->dt = L->dt_cfl;
     if (L->t + L->dt > end)
         L->dt = fmax(end - L->t, 1e-30);
-    solver_step(L->s, L->dt, L->dt_prev, load);
+    char error[512];
+    if (solver_advance(L->s, L->dt, L->dt_prev, load, &L->red, error, sizeof error)) {
+        snprintf(L->message, sizeof L->message, "unstable at step %ld, t = %.6e s: %s", L->step,
+                 L->t, error);
+        L->status = "unstable";
+        return 1;
+    }
     L->t += L->dt;
     L->dt_prev = L->dt;
     ++L->step;
-    solver_reduce(L->s, load, &L->red);
     L->external_work += L->red.load_power * L->dt; /* F(t^n) . v^(n+1/2) dt */
     L->wall_work += L->red.wall_power * L->dt;     /* f(x^n) . v^(n+1/2) dt, as the load */
     for (int a = 0; a < 3; ++a)

@@ -179,6 +179,8 @@ double solver_max_sound_speed(const struct sph_case *c);
  * axisymmetric cases and the total Lagrangian form. */
 #define SPH_LANES_DEFAULT 8
 int solver_lanes(const struct sph_case *c);
+/* Whether some body of the case has a graded lattice (SPH_GRADED). */
+int solver_case_graded(const struct sph_case *c);
 /* -D options for the program from the case. */
 void solver_build_options(const struct sph_case *c, char *options, size_t size);
 
@@ -207,15 +209,18 @@ void solver_memory_breakdown(const struct solver *s, struct solver_memory *out);
  * with `error` when the particles spread over more cells than the device can
  * hold (a particle left the domain). */
 int solver_sort(struct solver *s, char *error, size_t error_size);
-/* Whether a particle has moved far enough since the last sort (the
- * reduction's max_moved against half the grid's skin) to need a new one. */
-int solver_needs_sort(const struct solver *s, const struct reduction *last);
 /* Pressure and artificial stress of the initial state (before step 1). */
 void solver_prime(struct solver *s);
 /* One leap-frog step (see kernels/integrate.cl): pass 2, kick, pass 1,
  * material update, drift. `load` is the force per loaded particle at t^n. */
 void solver_step(struct solver *s, double dt, double dt_prev, const double load[3]);
 void solver_reduce(struct solver *s, const double load[3], struct reduction *out);
+/* A step as `sph run` and `sph bench` take it: re-sort when a particle has
+ * moved half the grid's skin since the last sort (by `red`, the last
+ * reduction), solver_step, and solver_reduce into `red`. Returns non-zero
+ * with `error` when the sort fails. */
+int solver_advance(struct solver *s, double dt, double dt_prev, const double load[3],
+                   struct reduction *red, char *error, size_t error_size);
 
 /* Host copies of the output fields, in original particle order (by id). */
 struct host_fields {

@@ -36,11 +36,17 @@ const struct field_info field_table[FIELD_COUNT] = {
     [FIELD_WALL_FORCE] = {"wall_force", ELEM_VEC, MIRROR_NONE},
 };
 
-int solver_lanes(const struct sph_case *c)
+int solver_case_graded(const struct sph_case *c)
 {
     int graded = 0;
     for (int b = 0; b < c->body_count; ++b)
         graded |= c->bodies[b].grading.enabled;
+    return graded;
+}
+
+int solver_lanes(const struct sph_case *c)
+{
+    const int graded = solver_case_graded(c);
     const int axisymmetric = c->dimension == 2 && c->plane == SPH_PLANE_AXISYMMETRIC;
     return c->numerics.plain_loops || graded || axisymmetric || c->numerics.total_lagrangian
                ? 0
@@ -56,11 +62,10 @@ void solver_build_options(const struct sph_case *c, char *options, size_t size)
     /* -w: PoCL's compiler prints ABI notes (-Wpsabi) about float8/float16
      * arguments on every first build; the sources are kept free of real
      * warnings with clang -x cl -fsyntax-only -Wall (docs/ARCHITECTURE.md) */
-    int graded = 0;
-    for (int b = 0; b < c->body_count; ++b)
-        graded |= c->bodies[b].grading.enabled;
-    snprintf(options, size, "-cl-std=CL1.2 -w -DSPH_DIM=%d -DSPH_KERNEL=%d%s%s%s%s%s%s%s%s",
-             c->dimension, (int)num->kernel, graded ? " -DSPH_GRADED" : "",
+    snprintf(options, size,
+             "-cl-std=CL1.2 -w -DSPH_DIM=%d -DSPH_KERNEL=%d -DSPH_GRID_SPLIT=%d%s%s%s%s%s%s%s%s",
+             c->dimension, (int)num->kernel, SPH_GRID_SPLIT,
+             solver_case_graded(c) ? " -DSPH_GRADED" : "",
              c->dimension == 2 && c->plane == SPH_PLANE_STRESS         ? " -DSPH_PLANE_STRESS"
              : c->dimension == 2 && c->plane == SPH_PLANE_AXISYMMETRIC ? " -DSPH_AXISYMMETRIC"
                                                                        : "",
@@ -72,20 +77,11 @@ void solver_build_options(const struct sph_case *c, char *options, size_t size)
              num->xsph_epsilon > 0 ? " -DSPH_XSPH" : "", plastic ? " -DSPH_PLASTICITY" : "",
              num->double_precision ? " -DSPH_DOUBLE" : "",
              num->total_lagrangian ? " -DSPH_TOTAL_LAGRANGIAN" : "");
-    {
-        const size_t used = strlen(options);
-        snprintf(options + used, size - used, " -DSPH_GRID_SPLIT=%d", SPH_GRID_SPLIT);
-    }
-    if (solver_lanes(c)) {
-        const size_t used = strlen(options);
-        snprintf(options + used, size - used, " -DSPH_LANES=%d", solver_lanes(c));
-    }
-    /* kernel developers' experiments: extra -D or -cl-* options */
+    const size_t used = strlen(options);
+    /* SPH_BUILD_OPTIONS: kernel developers' experiments, extra -D or -cl-* options */
     const char *extra = getenv("SPH_BUILD_OPTIONS");
-    if (extra && *extra) {
-        const size_t used = strlen(options);
-        snprintf(options + used, size - used, " %s", extra);
-    }
+    snprintf(options + used, size - used, " -DSPH_LANES=%d %s", solver_lanes(c),
+             extra ? extra : "");
 }
 
 int solver_field_used(const struct solver *s, enum field f)

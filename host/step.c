@@ -147,8 +147,7 @@ int solver_create(struct solver *s, struct sph_device *dev, const struct sph_cas
     s->lanes = solver_lanes(c);
     s->csph = c->numerics.csph;
     s->artificial_stress = c->numerics.as_epsilon > 0;
-    for (int b = 0; b < c->body_count; ++b)
-        s->graded |= c->bodies[b].grading.enabled;
+    s->graded = solver_case_graded(c);
     s->dx = c->numerics.dx;
     s->reduce_groups = 64;
     s->skin = SPH_GRID_SKIN;
@@ -336,12 +335,6 @@ int solver_sort(struct solver *s, char *error, size_t error_size)
         launch(s, s->k.neighbour_reach, (size_t)s->n, 0);
     }
     return 0;
-}
-
-int solver_needs_sort(const struct solver *s, const struct reduction *last)
-{
-    /* the total Lagrangian form keeps the reference neighbours: one sort */
-    return !s->total_lagrangian && last->max_moved >= 0.5 * s->skin * s->run.support;
 }
 
 /* Work-items of passes 1 and 2: one per particle, or per lane block. */
@@ -602,4 +595,16 @@ void solver_neighbour_counts(struct solver *s, int *count_by_id)
             count_by_id[id[k]] = count[k];
     free(count);
     free(id);
+}
+
+int solver_advance(struct solver *s, double dt, double dt_prev, const double load[3],
+                   struct reduction *red, char *error, size_t error_size)
+{
+    /* the total Lagrangian form keeps the reference neighbours: one sort */
+    const int moved = red->max_moved >= 0.5 * s->skin * s->run.support;
+    if (!s->total_lagrangian && moved && solver_sort(s, error, error_size))
+        return 1;
+    solver_step(s, dt, dt_prev, load);
+    solver_reduce(s, load, red);
+    return 0;
 }

@@ -66,7 +66,8 @@ enum sph_flag {
 #define SPH_LEVEL_MASK 15
 /* Grid cells per support (1 + skin): a particle on a uniform lattice
  * searches SPH_GRID_SPLIT cells each way. Finer cells test fewer
- * candidates per neighbour (3-D: about 11 at 1, 6.4 at 2, 5.2 at 3) for
+ * candidates per neighbour (3-D, by volume: ((2 s + 1) 1.2 / s)^3 / (4 pi / 3)
+ * for split s: 11 at 1, 6.4 at 2, 5.2 at 3) for
  * more cell lookups and, in the lane passes, wider boxes around a lane
  * block; measured on the 3-D Taylor bar, 1 is as fast as 2 and faster than
  * 3 (docs/performance.md). */

