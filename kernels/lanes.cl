@@ -151,12 +151,41 @@ static inline realv kernel_dwdr_q_v(realv q, real h)
     return sph_kernel_sigma(SPH_KERNEL, SPH_DIM) * sph_inv_h_pow(h, SPH_DIM) / h * shape_dq_v(q);
 }
 
+/* Whether any lane of a mask is set. OpenCL's any() on a vector mask runs
+ * lane by lane in PoCL 3.1 and took a third of pass 1's time at 50k; an
+ * OR of the mask's 64-bit words in halves is a few vector instructions
+ * (pass 1 17.9 against 22.5 ms, docs/performance.md). */
+#ifdef SPH_DOUBLE
+#define LANE_MASK_WORDS SPH_LANES
+#else
+#define LANE_MASK_WORDS (SPH_LANES / 2)
+#endif
+static inline int lanes_any(maskv m)
+{
+#if LANE_MASK_WORDS == 16
+    const ulong16 w16 = as_ulong16(m);
+    const ulong8 w8 = w16.lo | w16.hi;
+#elif LANE_MASK_WORDS == 8
+    const ulong8 w8 = as_ulong8(m);
+#endif
+#if LANE_MASK_WORDS >= 8
+    const ulong4 w4 = w8.lo | w8.hi;
+#elif LANE_MASK_WORDS == 4
+    const ulong4 w4 = as_ulong4(m);
+#endif
+#if LANE_MASK_WORDS >= 4
+    const ulong2 w2 = w4.lo | w4.hi;
+#else
+    const ulong2 w2 = as_ulong2(m);
+#endif
+    return (w2.x | w2.y) != 0;
+}
+
 /* This work-item's lanes: the first particle, which lanes hold a real
  * particle (not past n, not a ghost), and the box of their cells. */
 struct lane_block {
     int first;
     maskv live;
-    maskv index;
     int4 lo, hi;
 };
 
@@ -167,13 +196,12 @@ static inline int lane_block_setup(struct lane_block *b, __global const int *res
     b->first = (int)get_global_id(0) * SPH_LANES;
     b->lo = (int4)(INT_MAX);
     b->hi = (int4)(INT_MIN);
-    mask_union live, index;
+    mask_union live;
     int any_live = 0;
     for (int l = 0; l < SPH_LANES; ++l) {
         const int i = b->first + l;
         const int ok = i < n && !(flags[i] & SPH_FLAG_GHOST);
         live.s[l] = ok ? -1 : 0;
-        index.s[l] = i;
         if (ok) {
             const int4 c = grid_cell_coords((int)(sort_keys[i] >> 32), grid_dims);
             b->lo = min(b->lo, c);
@@ -182,7 +210,6 @@ static inline int lane_block_setup(struct lane_block *b, __global const int *res
         }
     }
     b->live = live.v;
-    b->index = index.v;
     return any_live;
 }
 
@@ -205,16 +232,16 @@ static inline int lane_block_setup(struct lane_block *b, __global const int *res
     }
 
 /* x_i - x_j and its square for every lane against candidate j, and the
- * lanes for which j is a neighbour (live, not j itself, within the
- * support). */
-static inline maskv lane_pair(realv xi[3], vec xj, int j, const struct lane_block *b, real support2,
-                              realv xij[3], realv *r2)
+ * lanes for which j is a neighbour: within the support and not j itself
+ * (r > 0; a lane that is not live sits at LANE_FAR, lane_positions). One
+ * vector test per candidate, so it holds no more than it must. */
+static inline maskv lane_pair(realv xi[3], vec xj, real support2, realv xij[3], realv *r2)
 {
 #pragma unroll
     for (int a = 0; a < 3; ++a)
         xij[a] = a < SPH_DIM ? xi[a] - vec_get(xj, a) : (realv)0;
     *r2 = xij[0] * xij[0] + xij[1] * xij[1] + xij[2] * xij[2];
-    return (*r2 < support2) & b->live & (b->index != (maskv)j);
+    return (*r2 < support2) & (*r2 > (real)0);
 }
 
 /* One lane's particle data gathered into vectors: a real field. */
@@ -242,6 +269,18 @@ static inline void gather_vec(__global const vec *restrict f, const struct lane_
         out[a] = u[a].v;
 }
 
+/* The lanes' positions; a lane that is not live is put LANE_FAR away, out
+ * of every candidate's reach, so lane_pair needs no live mask. */
+#define LANE_FAR ((real)1e18)
+static inline void lane_positions(__global const vec *restrict pos, const struct lane_block *b,
+                                  int n, realv xi[3])
+{
+    gather_vec(pos, b, n, xi);
+#pragma unroll
+    for (int a = 0; a < 3; ++a)
+        xi[a] = select((realv)LANE_FAR, xi[a], b->live);
+}
+
 /* reads: pos, vel, rho, mass, material; writes: velocity_gradient,
  * density_rate, csph (as pass1_velocity_gradient). */
 __kernel void pass1_lanes(__global const vec *restrict pos, __global const vec *restrict vel,
@@ -259,7 +298,7 @@ __kernel void pass1_lanes(__global const vec *restrict pos, __global const vec *
         return;
     const real h = run->h, inv_h = (real)1 / h, support2 = run->support * run->support;
     realv xi[3], vi[3];
-    gather_vec(pos, &b, n, xi);
+    lane_positions(pos, &b, n, xi);
     gather_vec(vel, &b, n, vi);
     realv grad_v[3][3], moment[3][3];
 #pragma unroll
@@ -270,8 +309,8 @@ __kernel void pass1_lanes(__global const vec *restrict pos, __global const vec *
     FOR_EACH_LANE_NEIGHBOUR(b, j)
     {
         realv xij[3], r2;
-        const maskv near = lane_pair(xi, pos[j], j, &b, support2, xij, &r2);
-        if (!any(near))
+        const maskv near = lane_pair(xi, pos[j], support2, xij, &r2);
+        if (!lanes_any(near))
             continue;
         const realv r = sqrt(r2);
         const real volume = mass[j] / rho[j];
@@ -383,7 +422,7 @@ pass2_lanes(__global const vec *restrict pos, __global const vec *restrict pos0,
         return;
     const real h = run->h, inv_h = (real)1 / h, support2 = run->support * run->support;
     realv xi[3], vi[3], sigma_i[3][3];
-    gather_vec(pos, &b, n, xi);
+    lane_positions(pos, &b, n, xi);
     gather_vec(vel, &b, n, vi);
     const realv rho_i = select((realv)1, gather_real(rho, &b, n), b.live),
                 inv_rho_i = (real)1 / rho_i;
@@ -424,8 +463,8 @@ pass2_lanes(__global const vec *restrict pos, __global const vec *restrict pos0,
     FOR_EACH_LANE_NEIGHBOUR(b, j)
     {
         realv xij[3], r2;
-        const maskv near = lane_pair(xi, pos[j], j, &b, support2, xij, &r2);
-        if (!any(near))
+        const maskv near = lane_pair(xi, pos[j], support2, xij, &r2);
+        if (!lanes_any(near))
             continue;
         const realv r = sqrt(r2);
         const vec vj = vel[j];
