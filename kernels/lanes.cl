@@ -138,7 +138,22 @@ static inline realv shape_dq_v(realv q)
     return select((real)-3 * t * t, (real)3 * q * q - (real)6, q <= one);
 }
 
-/* W and dW/dr of q = r / h: the pair loops form q with a product by 1 / h
+/* df/dq / q, what the kernel gradient dW/dr x_ij / r needs: for the
+ * Wendland C2 and the Gaussian kernels q cancels, so the pair loops do not
+ * divide by r (a vector division costs many multiply-adds on a CPU); the
+ * others divide. */
+static inline realv shape_dq_over_q_v(realv q)
+{
+    if (SPH_KERNEL == SPH_KERNEL_WENDLAND_C2) {
+        const realv t = fmax((realv)1 - (real)0.5 * q, (realv)0);
+        return (real)-5 * t * t * t;
+    }
+    if (SPH_KERNEL == SPH_KERNEL_GAUSSIAN)
+        return select((realv)0, (real)-2 * exp(-q * q), q <= (real)3);
+    return shape_dq_v(q) / q;
+}
+
+/* W of q = r / h: the pair loops form q with a product by 1 / h
  * and keep their divisions out of the per-candidate work, since a vector
  * division costs many multiply-adds on a CPU (docs/performance.md). */
 static inline realv kernel_w_q_v(realv q, real h)
@@ -146,9 +161,11 @@ static inline realv kernel_w_q_v(realv q, real h)
     return sph_kernel_sigma(SPH_KERNEL, SPH_DIM) * sph_inv_h_pow(h, SPH_DIM) * shape_v(q);
 }
 
-static inline realv kernel_dwdr_q_v(realv q, real h)
+/* (dW/dr) / r of q = r / h, for grad_i W_ij = (dW/dr) / r x_ij */
+static inline realv kernel_dwdr_over_r_q_v(realv q, real h)
 {
-    return sph_kernel_sigma(SPH_KERNEL, SPH_DIM) * sph_inv_h_pow(h, SPH_DIM) / h * shape_dq_v(q);
+    return sph_kernel_sigma(SPH_KERNEL, SPH_DIM) * sph_inv_h_pow(h, SPH_DIM) / (h * h) *
+           shape_dq_over_q_v(q);
 }
 
 /* Whether any lane of a mask is set. OpenCL's any() on a vector mask runs
@@ -315,7 +332,7 @@ __kernel void pass1_lanes(__global const vec *restrict pos, __global const vec *
         const realv r = sqrt(r2);
         const real volume = mass[j] / rho[j];
         /* grad_i W_ij = dW/dr x_ij / r; zero for lanes out of reach */
-        const realv dwdr_r = select((realv)0, kernel_dwdr_q_v(r * inv_h, h) / r, near);
+        const realv dwdr_r = select((realv)0, kernel_dwdr_over_r_q_v(r * inv_h, h), near);
         const vec vj = vel[j];
 #pragma unroll
         for (int a = 0; a < SPH_DIM; ++a) {
@@ -482,7 +499,7 @@ pass2_lanes(__global const vec *restrict pos, __global const vec *restrict pos0,
             select((realv)0, (-run->av_alpha * c_mean * mu + run->av_beta * mu * mu) * inv_rho_mean,
                    vr < (real)0);
         const realv q = r * inv_h;
-        const realv dwdr_r = select((realv)0, kernel_dwdr_q_v(q, h) / r, near);
+        const realv dwdr_r = select((realv)0, kernel_dwdr_over_r_q_v(q, h), near);
         realv grad[3], g_i[3], g_j[3];
 #pragma unroll
         for (int a = 0; a < 3; ++a)
