@@ -192,6 +192,8 @@ void solver_release(struct solver *s);
 
 /* Whether the formulation uses field f (others get a token buffer). */
 int solver_field_used(const struct solver *s, enum field f);
+/* bytes per slot of the gather spare: the largest persistent field's element */
+size_t solver_spare_element(const struct solver *s);
 
 /* Bytes of device memory per particle, over all per-particle buffers. */
 size_t solver_bytes_per_particle(const struct solver *s);

@@ -25,7 +25,7 @@ const struct field_info field_table[FIELD_COUNT] = {
     [FIELD_POS_AT_SORT] = {"position_at_sort", ELEM_VEC, MIRROR_NONE},
     [FIELD_VELOCITY_GRADIENT] = {"velocity_gradient", ELEM_FULLT, MIRROR_NONE},
     [FIELD_DENSITY_RATE] = {"density_rate", ELEM_REAL, MIRROR_NONE},
-    [FIELD_CSPH] = {"csph_correction", ELEM_FULLT, MIRROR_REFLECT},
+    [FIELD_CSPH] = {"csph_correction", ELEM_SYMT, MIRROR_REFLECT}, /* symmetric: pass1.cl */
     [FIELD_DEFORMATION_GRADIENT] = {"deformation_gradient", ELEM_FULLT, MIRROR_REFLECT},
     [FIELD_FIRST_PIOLA] = {"first_piola_corrected", ELEM_FULLT, MIRROR_REFLECT},
     [FIELD_PRESSURE] = {"pressure", ELEM_REAL, MIRROR_COPY},
@@ -92,11 +92,30 @@ int solver_field_used(const struct solver *s, enum field f)
         return s->total_lagrangian;
     case FIELD_CSPH: /* the total Lagrangian form keeps its correction there */
         return s->csph || s->total_lagrangian;
+    case FIELD_VELOCITY_GRADIENT: /* the updated form's pass 1 uses them at once */
+    case FIELD_DENSITY_RATE:
+        return s->total_lagrangian;
     case FIELD_ARTIFICIAL_STRESS:
         return s->artificial_stress;
     default:
         return 1;
     }
+}
+
+/* The largest element of the fields in use, of those before `end`: the
+ * gather spare serves every persistent field's reorder. */
+static size_t largest_element(const struct solver *s, int end)
+{
+    size_t largest = 0;
+    for (int f = 0; f < end; ++f)
+        if (solver_field_used(s, (enum field)f) && s->element_size[field_table[f].kind] > largest)
+            largest = s->element_size[field_table[f].kind];
+    return largest;
+}
+
+size_t solver_spare_element(const struct solver *s)
+{
+    return largest_element(s, FIELD_PERSISTENT_END);
 }
 
 static size_t field_bytes(const struct solver *s, enum field f)
@@ -113,7 +132,7 @@ void solver_memory_breakdown(const struct solver *s, struct solver_memory *out)
             out->bytes[out->count++] = s->element_size[field_table[f].kind];
         }
     out->name[out->count] = "gather_spare";
-    out->bytes[out->count++] = s->element_size[ELEM_FULLT]; /* the largest element */
+    out->bytes[out->count++] = solver_spare_element(s);
     out->name[out->count] = "sort_keys"; /* padded to a power of two: at most twice */
     out->bytes[out->count++] = 2 * sizeof(cl_ulong);
 }
@@ -330,7 +349,7 @@ int solver_create_buffers(struct solver *s, const struct sph_case *c, const stru
                  (double)s->dev->global_memory / (1 << 30));
         return 1;
     }
-    const size_t largest = s->element_size[ELEM_FULLT] * (size_t)s->padded_n;
+    const size_t largest = largest_element(s, FIELD_COUNT) * (size_t)s->padded_n;
     if (largest > s->dev->max_allocation) {
         snprintf(error, error_size,
                  "one buffer of this case needs %.2f GiB but %s allows %.2f GiB per buffer; use a "
@@ -341,7 +360,7 @@ int solver_create_buffers(struct solver *s, const struct sph_case *c, const stru
     }
     for (int f = 0; f < FIELD_COUNT; ++f)
         s->field[f] = create_buffer(s, field_bytes(s, (enum field)f));
-    s->gather_spare = create_buffer(s, s->element_size[ELEM_FULLT] * (size_t)s->capacity);
+    s->gather_spare = create_buffer(s, solver_spare_element(s) * (size_t)s->capacity);
     s->sort_keys = create_buffer(s, sizeof(cl_ulong) * (size_t)s->padded_n);
     s->partials = create_buffer(s, s->element_size[ELEM_REAL] * SPH_RED_SLOTS * s->reduce_groups);
     s->bounds_partials = create_buffer(s, s->element_size[ELEM_REAL] * 6 * s->reduce_groups);

@@ -343,28 +343,34 @@ static size_t pass_items(const struct solver *s)
     return s->lanes ? ((size_t)s->n + (size_t)s->lanes - 1) / (size_t)s->lanes : (size_t)s->n;
 }
 
-static void pass1(struct solver *s)
+/* The material state buffers, as kernels/material.cl's MATERIAL_STATE_ARGS. */
+#define MATERIAL_STATE_LIST(f)                                                                     \
+    MEM(f[FIELD_DENSITY_CHANGE]), MEM(f[FIELD_ENERGY]), MEM(f[FIELD_STRESS]),                      \
+        MEM(f[FIELD_PLASTIC_STRAIN]), MEM(f[FIELD_TEMPERATURE]), MEM(f[FIELD_ENERGY_RATE]),        \
+        MEM(f[FIELD_PRESSURE]), MEM(f[FIELD_ARTIFICIAL_STRESS])
+
+/* Pass 1 and, particle by particle at its end, the material update. */
+static void pass1(struct solver *s, double dt)
 {
     cl_mem *f = s->field;
     const cl_int4 dims = {{s->grid.dims[0], s->grid.dims[1], s->grid.dims[2], 0}};
+    struct real_arg a_dt;
     SET_ARGS(s->k.pass1, MEM(f[FIELD_POS]), MEM(f[FIELD_VEL_HALF]), MEM(f[FIELD_RHO]),
              MEM(f[FIELD_MASS]), MEM(f[FIELD_MATERIAL]), MEM(f[FIELD_FLAGS]),
-             GRID_ARG_LIST(s, dims), MEM(s->materials), MEM(s->run_params),
-             MEM(f[FIELD_VELOCITY_GRADIENT]), MEM(f[FIELD_DENSITY_RATE]), MEM(f[FIELD_CSPH]),
-             INT(s->n));
+             GRID_ARG_LIST(s, dims), MEM(s->materials), MEM(s->run_params), MEM(f[FIELD_CSPH]),
+             real_value(s, &a_dt, dt), MATERIAL_STATE_LIST(f), INT(s->n));
     launch(s, s->k.pass1, pass_items(s), 0);
 }
 
+/* The total Lagrangian form's material update (its own kernel). */
 static void material(struct solver *s, double dt)
 {
     cl_mem *f = s->field;
     struct real_arg a_dt;
-    SET_ARGS(s->k.material, MEM(f[FIELD_RHO]), MEM(f[FIELD_DENSITY_CHANGE]), MEM(f[FIELD_ENERGY]),
-             MEM(f[FIELD_STRESS]), MEM(f[FIELD_PLASTIC_STRAIN]), MEM(f[FIELD_TEMPERATURE]),
-             MEM(f[FIELD_VELOCITY_GRADIENT]), MEM(f[FIELD_DENSITY_RATE]), MEM(f[FIELD_ENERGY_RATE]),
-             MEM(f[FIELD_MATERIAL]), MEM(f[FIELD_FLAGS]), MEM(f[FIELD_POS]), MEM(f[FIELD_VEL_HALF]),
-             MEM(s->materials), MEM(s->run_params), real_value(s, &a_dt, dt),
-             MEM(f[FIELD_PRESSURE]), MEM(f[FIELD_ARTIFICIAL_STRESS]), INT(s->n));
+    SET_ARGS(s->k.material, MEM(f[FIELD_RHO]), MEM(f[FIELD_VELOCITY_GRADIENT]),
+             MEM(f[FIELD_DENSITY_RATE]), MEM(f[FIELD_MATERIAL]), MEM(f[FIELD_FLAGS]),
+             MEM(f[FIELD_POS]), MEM(f[FIELD_VEL_HALF]), MEM(s->materials), MEM(s->run_params),
+             real_value(s, &a_dt, dt), MATERIAL_STATE_LIST(f), INT(s->n));
     launch(s, s->k.material, (size_t)s->n, 0);
 }
 
@@ -439,8 +445,7 @@ static void deformation_and_material(struct solver *s, double dt)
         material(s, dt);
         tl_first_piola(s);
     } else {
-        pass1(s);
-        material(s, dt);
+        pass1(s, dt);
     }
 }
 
@@ -481,8 +486,9 @@ void solver_step(struct solver *s, double dt, double dt_prev, const double load[
     struct real4_arg a_side, a_plane;
     SET_ARGS(s->k.drift, MEM(f[FIELD_POS]), MEM(f[FIELD_DISPLACEMENT]), MEM(f[FIELD_POS0]),
              MEM(f[FIELD_VEL_HALF]), MEM(f[FIELD_XSPH_VELOCITY]), MEM(f[FIELD_FLAGS]),
-             real_value(s, &a_dt, dt), real4_value(s, &a_plane, plane),
-             real4_value(s, &a_side, side), INT(s->n));
+             MEM(f[FIELD_RHO]), MEM(f[FIELD_DENSITY_CHANGE]), MEM(f[FIELD_PLASTIC_STRAIN]),
+             MEM(f[FIELD_MATERIAL]), MEM(s->materials), real_value(s, &a_dt, dt),
+             real4_value(s, &a_plane, plane), real4_value(s, &a_side, side), INT(s->n));
     launch(s, s->k.drift, (size_t)s->n, 0);
 }
 

@@ -96,15 +96,29 @@ __kernel void integrate_kick(__global vec *restrict vel, __global vec *restrict 
  * plane's axis a, 0 elsewhere) is reflected back and its normal velocity
  * reversed, as its mirror image would meet it: material swept onto the axis
  * of an axisymmetric case (a cavity closing) must not pass it.
- * reads xsph_velocity, flags, pos0; updates vel_half, displacement; writes pos. */
+ * The drift also writes what the material update (run inside pass 1 in
+ * the updated Lagrangian form) must leave to after every particle's pass 1:
+ * the new density rho0 + density_change, and the damage flag.
+ * reads xsph_velocity, pos0, density_change, plastic_strain, material;
+ * updates vel_half, displacement, flags; writes pos, rho. */
 __kernel void integrate_drift(__global vec *restrict pos, __global vec *restrict displacement,
                               __global const vec *restrict pos0, __global vec *restrict vel_half,
                               __global const vec *restrict xsph_velocity,
-                              __global const int *restrict flags, const real dt, const real4 plane,
-                              const real4 side, const int n)
+                              __global int *restrict flags, __global real *restrict rho,
+                              __global const real *restrict density_change,
+                              __global const real *restrict plastic_strain,
+                              __global const int *restrict material,
+                              __constant const struct sph_material *materials, const real dt,
+                              const real4 plane, const real4 side, const int n)
 {
     const int i = get_global_id(0);
-    if (i >= n || (flags[i] & (SPH_FLAG_FIXED | SPH_FLAG_GHOST)))
+    if (i >= n || (flags[i] & SPH_FLAG_GHOST))
+        return;
+    __constant const struct sph_material *m = &materials[material[i]];
+    rho[i] = m->density + density_change[i];
+    if (particle_failed(m, plastic_strain[i]))
+        flags[i] |= SPH_FLAG_DAMAGED;
+    if (flags[i] & SPH_FLAG_FIXED)
         return;
     const vec u = displacement[i] + dt * (vel_half[i] + xsph_velocity[i]);
     const vec x0 = pos0[i];

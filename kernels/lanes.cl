@@ -298,16 +298,14 @@ static inline void lane_positions(__global const vec *restrict pos, const struct
         xi[a] = select((realv)LANE_FAR, xi[a], b->live);
 }
 
-/* reads: pos, vel, rho, mass, material; writes: velocity_gradient,
- * density_rate, csph (as pass1_velocity_gradient). */
+/* reads: pos, vel (half step), rho, mass, material, flags, energy_rate;
+ * writes: csph; updates: the material state (as pass1_velocity_gradient). */
 __kernel void pass1_lanes(__global const vec *restrict pos, __global const vec *restrict vel,
                           __global const real *restrict rho, __global const real *restrict mass,
                           __global const int *restrict material, __global const int *restrict flags,
                           GRID_ARGS, __constant const struct sph_material *materials,
-                          __constant const struct sph_run_params *run,
-                          __global fullt *restrict velocity_gradient,
-                          __global real *restrict density_rate, __global fullt *restrict csph,
-                          const int n)
+                          __constant const struct sph_run_params *run, __global symt *restrict csph,
+                          const real dt, MATERIAL_STATE_ARGS, const int n)
 {
     struct lane_block b;
     if ((int)get_global_id(0) * SPH_LANES >= n ||
@@ -360,8 +358,8 @@ __kernel void pass1_lanes(__global const vec *restrict pos, __global const vec *
                 gv[a][c] = lane_of(grad_v[a][c], l);
                 m[a][c] = lane_of(moment[a][c], l);
             }
-        pass1_finish(i, gv, m, pos[i], vel[i], rho, material, materials, run, velocity_gradient,
-                     density_rate, csph);
+        pass1_finish(i, gv, m, pos[i], vel[i], rho, material, flags, materials, run, csph, dt, pos,
+                     vel, MATERIAL_STATE);
     }
 }
 
@@ -385,24 +383,19 @@ static inline void lanes_get_tensor(lanes_union u[3][3], realv out[3][3])
             out[a][c] = u[a][c].v;
 }
 
-/* A 3 x 3 tensor per lane from a tensor field of `type` (symt or fullt)
- * read by `load` (common.cl). */
-#define GATHER_TENSOR(name, type, load)                                                            \
-    static inline void name(__global const type *restrict f, const struct lane_block *b, int n,    \
-                            realv out[3][3])                                                       \
-    {                                                                                              \
-        lanes_union u[3][3];                                                                       \
-        for (int l = 0; l < SPH_LANES; ++l) {                                                      \
-            real t[3][3];                                                                          \
-            load(b->first + l < n ? f[b->first + l] : (type)0, t);                                 \
-            lanes_put_tensor(u, l, t);                                                             \
-        }                                                                                          \
-        lanes_get_tensor(u, out);                                                                  \
+/* A symmetric 3 x 3 tensor per lane (stress, artificial stress, CSPH). */
+static inline void gather_symt(__global const symt *restrict f, const struct lane_block *b, int n,
+                               realv out[3][3])
+{
+    lanes_union u[3][3];
+    for (int l = 0; l < SPH_LANES; ++l) {
+        real t[3][3];
+        symt_load(b->first + l < n ? f[b->first + l] : (symt)0, t);
+        lanes_put_tensor(u, l, t);
     }
-
-GATHER_TENSOR(gather_symt, symt, symt_load)
+    lanes_get_tensor(u, out);
+}
 #ifdef SPH_CSPH
-GATHER_TENSOR(gather_fullt, fullt, fullt_load)
 #endif
 
 #ifdef SPH_ARTIFICIAL_STRESS
@@ -427,7 +420,7 @@ pass2_lanes(__global const vec *restrict pos, __global const vec *restrict pos0,
             __global const vec *restrict vel, __global const real *restrict rho,
             __global const real *restrict mass, __global const real *restrict pressure,
             __global const symt *restrict deviatoric_stress,
-            __global const symt *restrict artificial_stress, __global const fullt *restrict csph,
+            __global const symt *restrict artificial_stress, __global const symt *restrict csph,
             __global const int *restrict material, __global const int *restrict flags, GRID_ARGS,
             __constant const struct sph_material *materials,
             __constant const struct sph_run_params *run, __global vec *restrict acceleration,
@@ -471,7 +464,7 @@ pass2_lanes(__global const vec *restrict pos, __global const vec *restrict pos0,
 #endif
 #ifdef SPH_CSPH
     realv c_i_t[3][3];
-    gather_fullt(csph, &b, n, c_i_t);
+    gather_symt(csph, &b, n, c_i_t);
 #else
     (void)csph;
 #endif
@@ -506,7 +499,7 @@ pass2_lanes(__global const vec *restrict pos, __global const vec *restrict pos0,
             grad[a] = a < SPH_DIM ? dwdr_r * xij[a] : (realv)0;
 #ifdef SPH_CSPH
         real c_j[3][3];
-        fullt_load(csph[j], c_j);
+        symt_load(csph[j], c_j);
 #pragma unroll
         for (int a = 0; a < 3; ++a) {
             g_i[a] = g_j[a] = (realv)0;

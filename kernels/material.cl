@@ -2,12 +2,9 @@
  * Material update, from state n to n+1 with the velocity gradient of the
  * half-step velocity: Jaumann stress rate, von Mises radial return, density
  * and energy, then the equation of state and the artificial stress of the new
- * state (for the next pass 2).
- *
- * reads: velocity_gradient, density_rate, energy_rate, material, pressure (p^n),
- *        pos and vel_half (axisymmetric hoop rate);
- * updates: density_change, energy, deviatoric_stress, plastic_strain, temperature;
- * writes: rho (= rho0 + density_change), pressure, artificial_stress.
+ * state (for the next pass 2). material_update_particle does one particle;
+ * pass 1 calls it (updated Lagrangian), material_update launches it (total
+ * Lagrangian).
  */
 
 /* Equations of state take the compression mu = rho / rho0 - 1 computed from
@@ -163,27 +160,50 @@ static inline void plastic_correction(__constant const struct sph_material *m, r
 }
 #endif
 
-__kernel void material_update(
-    __global real *restrict rho, __global real *restrict density_change,
-    __global real *restrict energy, __global symt *restrict deviatoric_stress,
-    __global real *restrict plastic_strain, __global real *restrict temperature,
-    __global const fullt *restrict velocity_gradient, __global const real *restrict density_rate,
-    __global const real *restrict energy_rate, __global const int *restrict material,
-    __global int *restrict flags, __global const vec *restrict pos,
-    __global const vec *restrict vel_half, __constant const struct sph_material *materials,
-    __constant const struct sph_run_params *run, const real dt, __global real *restrict pressure,
-    __global symt *restrict artificial_stress, const int n)
+/* Failure (thesis 4.3.2): past the material's plastic strain (0: at first
+ * yield; negative: never) the particle keeps only its pressure, and no
+ * tension. */
+static inline bool particle_failed(__constant const struct sph_material *m, real plastic_strain)
 {
-    const int i = get_global_id(0);
-    /* a ghost's state is copied from its particle at the next refresh, and
-     * its velocity gradient is not computed: nothing to update (21-31% of
-     * the slots in use of the quarter 3-D bar, 200k to 50k particles) */
-    if (i >= n || (flags[i] & SPH_FLAG_GHOST))
-        return;
+#ifdef SPH_PLASTICITY
+    return m->failure_strain >= 0 && plastic_strain > m->failure_strain;
+#else
+    (void)m;
+    (void)plastic_strain;
+    return false;
+#endif
+}
+
+/* The state the material update carries from step to step (the kernel
+ * arguments, and the same names passed on), in this order. */
+#define MATERIAL_STATE_ARGS                                                                        \
+    __global real *restrict density_change, __global real *restrict energy,                        \
+        __global symt *restrict deviatoric_stress, __global real *restrict plastic_strain,         \
+        __global real *restrict temperature, __global const real *restrict energy_rate,            \
+        __global real *restrict pressure, __global symt *restrict artificial_stress
+#define MATERIAL_STATE                                                                             \
+    density_change, energy, deviatoric_stress, plastic_strain, temperature, energy_rate, pressure, \
+        artificial_stress
+
+/* The material update of particle i (not a ghost) from its velocity
+ * gradient l (1/s) and density rate (kg/m^3/s) over the step dt (s): called
+ * at the end of pass 1 in the updated Lagrangian form (pass1.cl, lanes.cl),
+ * so the velocity gradient is never stored, and by material_update in the
+ * total Lagrangian form. It writes only particle i's own state, and not its
+ * density or flags, which neighbours' pass 1 reads while it runs: it
+ * returns the new density, and integrate_drift writes that and the damage
+ * flag (particle_failed) after every particle's update. */
+static inline real
+material_update_particle(int i, real l[3][3], real density_rate_i, real dt,
+                         __global const real *restrict rho, __global const int *restrict material,
+                         __global const int *restrict flags, __global const vec *restrict pos,
+                         __global const vec *restrict vel_half,
+                         __constant const struct sph_material *materials,
+                         __constant const struct sph_run_params *run, MATERIAL_STATE_ARGS)
+{
     __constant const struct sph_material *m = &materials[material[i]];
-    real s[3][3], l[3][3], d[3][3], w[3][3], rate[3][3];
+    real s[3][3], d[3][3], w[3][3], rate[3][3];
     symt_load(deviatoric_stress[i], s);
-    fullt_load(velocity_gradient[i], l);
     strain_rate_and_spin(l, m->plane_stress_nu, d, w);
 #ifdef SPH_AXISYMMETRIC
     d[2][2] = vel_half[i].x / axis_radius(pos[i].x, run); /* hoop strain rate v_r / r */
@@ -232,7 +252,7 @@ __kernel void material_update(
     /* ... and not below rho0 / 100: a failed particle flung off the
      * target (debris, alone or in a separating pair) keeps expanding in
      * the continuity equation until its density underflows */
-    const real change = fmax(density_change[i] + rho_old * expm1(dt * density_rate[i] / rho_old),
+    const real change = fmax(density_change[i] + rho_old * expm1(dt * density_rate_i / rho_old),
                              (real)-0.99 * m->density);
     const real density = m->density + change;
     const real e_trial = energy[i] + dt * energy_rate[i];
@@ -243,15 +263,10 @@ __kernel void material_update(
     const real e = e_trial + dt * power / rho[i];
     const real p = pressure_eos(m, change / m->density, e);
     density_change[i] = change;
-    rho[i] = density;
     energy[i] = e;
 #ifdef SPH_PLASTICITY
-    /* failure (thesis 4.3.2): past the material's plastic strain (0: at
-     * first yield) the particle keeps only its pressure, and no tension */
-    const bool failed =
-        was_failed || (m->failure_strain >= 0 && plastic_strain[i] > m->failure_strain);
+    const bool failed = was_failed || particle_failed(m, plastic_strain[i]);
     if (failed) {
-        flags[i] |= SPH_FLAG_DAMAGED;
 #pragma unroll
         for (int a = 0; a < 3; ++a)
 #pragma unroll
@@ -277,4 +292,29 @@ __kernel void material_update(
     (void)run;
     (void)artificial_stress;
 #endif
+    return density;
+}
+
+/* The total Lagrangian form's material update, after tl_deformation (its
+ * first Piola stress needs the new density at once).
+ * reads: velocity_gradient, density_rate, energy_rate, material, flags,
+ *        pressure (p^n), pos and vel_half (axisymmetric hoop rate);
+ * updates: density_change, energy, deviatoric_stress, plastic_strain,
+ *          temperature; writes: rho, pressure, artificial_stress. */
+__kernel void material_update(
+    __global real *restrict rho, __global const fullt *restrict velocity_gradient,
+    __global const real *restrict density_rate, __global const int *restrict material,
+    __global const int *restrict flags, __global const vec *restrict pos,
+    __global const vec *restrict vel_half, __constant const struct sph_material *materials,
+    __constant const struct sph_run_params *run, const real dt, MATERIAL_STATE_ARGS, const int n)
+{
+    const int i = get_global_id(0);
+    /* a ghost's state is copied from its particle at the next refresh, and
+     * its velocity gradient is not computed: nothing to update */
+    if (i >= n || (flags[i] & SPH_FLAG_GHOST))
+        return;
+    real l[3][3];
+    fullt_load(velocity_gradient[i], l);
+    rho[i] = material_update_particle(i, l, density_rate[i], dt, rho, material, flags, pos,
+                                      vel_half, materials, run, MATERIAL_STATE);
 }

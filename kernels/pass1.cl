@@ -10,19 +10,25 @@
  * linear in the gradient).
  * Density: continuity, drho_i/dt = -rho_i tr(L_i) (plus the out-of-plane
  * strain rate in plane stress).
+ * Then each particle's material update (material.cl) with its L_i and
+ * density rate, so neither is stored (64 + 4 B per particle in 3-D): it
+ * writes only particle i's own state, none of what pass 1 reads of the
+ * neighbours (integrate_drift writes the new density).
  *
- * reads: pos, vel, rho, mass, material; writes: velocity_gradient, density_rate, csph.
+ * reads: pos, vel (half step), rho, mass, material, flags, energy_rate;
+ * writes: csph; updates: the material state (MATERIAL_STATE_ARGS).
  */
 
 /* What pass 1 does with particle i's sums (shared with kernels/lanes.cl):
- * the CSPH correction C_i = B_i^-1 applied to L_i, and the density rate. */
-static inline void pass1_finish(int i, real grad_v[3][3], real moment[3][3], vec xi, vec vi,
-                                __global const real *restrict rho,
-                                __global const int *restrict material,
-                                __constant const struct sph_material *materials,
-                                __constant const struct sph_run_params *run,
-                                __global fullt *restrict velocity_gradient,
-                                __global real *restrict density_rate, __global fullt *restrict csph)
+ * the CSPH correction C_i = B_i^-1 (symmetric, since grad W_ij is along
+ * x_ij) applied to L_i, the density rate, and the material update. */
+static inline void
+pass1_finish(int i, real grad_v[3][3], real moment[3][3], vec xi, vec vi,
+             __global const real *restrict rho, __global const int *restrict material,
+             __global const int *restrict flags, __constant const struct sph_material *materials,
+             __constant const struct sph_run_params *run, __global symt *restrict csph,
+             const real dt, __global const vec *restrict pos, __global const vec *restrict vel,
+             MATERIAL_STATE_ARGS)
 {
 #ifndef SPH_CSPH
     (void)moment;
@@ -30,9 +36,6 @@ static inline void pass1_finish(int i, real grad_v[3][3], real moment[3][3], vec
 #endif
     (void)xi;
     (void)vi;
-    (void)material;
-    (void)materials;
-    (void)run;
 #ifdef SPH_CSPH
     real c[3][3], corrected[3][3];
     matrix_invert_or_identity(moment, c);
@@ -50,7 +53,7 @@ static inline void pass1_finish(int i, real grad_v[3][3], real moment[3][3], vec
 #pragma unroll
         for (int b = 0; b < 3; ++b)
             grad_v[a][b] = corrected[a][b];
-    csph[i] = fullt_store(c);
+    csph[i] = symt_store(c);
 #endif
     real divergence = grad_v[0][0] + grad_v[1][1] + grad_v[2][2];
 #ifdef SPH_AXISYMMETRIC
@@ -60,17 +63,17 @@ static inline void pass1_finish(int i, real grad_v[3][3], real moment[3][3], vec
     /* sigma_zz = 0 needs eps_zz rate = -nu/(1-nu) (eps_xx + eps_yy) (Hooke) */
     divergence *= (real)1 - materials[material[i]].plane_stress_nu;
 #endif
-    velocity_gradient[i] = fullt_store(grad_v);
-    density_rate[i] = -rho[i] * divergence;
+    material_update_particle(i, grad_v, -rho[i] * divergence, dt, rho, material, flags, pos, vel,
+                             materials, run, MATERIAL_STATE);
 }
 
-__kernel void pass1_velocity_gradient(
-    __global const vec *restrict pos, __global const vec *restrict vel,
-    __global const real *restrict rho, __global const real *restrict mass,
-    __global const int *restrict material, __global const int *restrict flags, GRID_ARGS,
-    __constant const struct sph_material *materials, __constant const struct sph_run_params *run,
-    __global fullt *restrict velocity_gradient, __global real *restrict density_rate,
-    __global fullt *restrict csph, const int n)
+__kernel void
+pass1_velocity_gradient(__global const vec *restrict pos, __global const vec *restrict vel,
+                        __global const real *restrict rho, __global const real *restrict mass,
+                        __global const int *restrict material, __global const int *restrict flags,
+                        GRID_ARGS, __constant const struct sph_material *materials,
+                        __constant const struct sph_run_params *run, __global symt *restrict csph,
+                        const real dt, MATERIAL_STATE_ARGS, const int n)
 {
     const int i = get_global_id(0);
     if (i >= n || (flags[i] & SPH_FLAG_GHOST))
@@ -109,6 +112,6 @@ __kernel void pass1_velocity_gradient(
 #ifndef SPH_CSPH
     real moment[3][3];
 #endif
-    pass1_finish(i, grad_v, moment, xi, vi, rho, material, materials, run, velocity_gradient,
-                 density_rate, csph);
+    pass1_finish(i, grad_v, moment, xi, vi, rho, material, flags, materials, run, csph, dt, pos,
+                 vel, MATERIAL_STATE);
 }

@@ -56,10 +56,11 @@ static inline void transpose_times(real m[3][3], real v[3], real out[3])
     }
 }
 
-static inline void fullt_transpose_times(fullt f, real v[3], real out[3])
+/* out = C^T v for the symmetric CSPH correction C (pass1.cl) */
+static inline void symt_transpose_times(symt f, real v[3], real out[3])
 {
     real m[3][3];
-    fullt_load(f, m);
+    symt_load(f, m);
     transpose_times(m, v, out);
 }
 
@@ -97,7 +98,7 @@ __kernel void pass2_momentum_energy(
     __global const vec *restrict vel, __global const real *restrict rho,
     __global const real *restrict mass, __global const real *restrict pressure,
     __global const symt *restrict deviatoric_stress,
-    __global const symt *restrict artificial_stress, __global const fullt *restrict csph,
+    __global const symt *restrict artificial_stress, __global const symt *restrict csph,
     __global const int *restrict material, __global const int *restrict flags, GRID_ARGS,
     __constant const struct sph_material *materials, __constant const struct sph_run_params *run,
     __global vec *restrict acceleration, __global real *restrict energy_rate,
@@ -125,7 +126,7 @@ __kernel void pass2_momentum_energy(
 #endif
 #ifdef SPH_CSPH
     real c_i_t[3][3];
-    fullt_load(csph[i], c_i_t);
+    symt_load(csph[i], c_i_t);
 #else
     (void)csph;
 #endif
@@ -160,7 +161,7 @@ __kernel void pass2_momentum_energy(
                 grad[a] = dwdr_r * vec_get(xij, a);
 #ifdef SPH_CSPH
             transpose_times(c_i_t, grad, g_i);
-            fullt_transpose_times(csph[j], grad, g_j);
+            symt_transpose_times(csph[j], grad, g_j);
 #else
 #pragma unroll
             for (int a = 0; a < 3; ++a)
