@@ -52,8 +52,7 @@ enum field {
     FIELD_DEFORMATION_GRADIENT, /* total Lagrangian only */
     FIELD_FIRST_PIOLA,          /* total Lagrangian only: P C^T */
     FIELD_PERSISTENT_END,
-    FIELD_POS_AT_SORT = FIELD_PERSISTENT_END,
-    FIELD_VELOCITY_GRADIENT,
+    FIELD_VELOCITY_GRADIENT = FIELD_PERSISTENT_END,
     FIELD_DENSITY_RATE,
     FIELD_ACCELERATION,
     FIELD_ENERGY_RATE,
@@ -95,7 +94,7 @@ struct ghosts {
 };
 
 struct kernels {
-    cl_kernel cell_keys, bitonic_step, fill_int, cell_ranges, mark_sorted, bounds;
+    cl_kernel cell_keys, bitonic_step, fill_int, cell_ranges, bounds;
     cl_kernel gather[ELEM_COUNT];
     cl_kernel pass1, material, pass2, kick, drift, reduce, neighbour_count;
     cl_kernel tl_correction, tl_deformation, tl_first_piola, tl_momentum;
@@ -134,8 +133,8 @@ struct projectile_reading {
 
 /* What the per-step reduction returns, combined in double. */
 struct reduction {
-    double max_signal, max_speed, max_moved;
-    long bad_id; /* -1 when every particle is healthy */
+    double max_signal, max_speed, max_drift_speed; /* m/s */
+    long bad_id;                                   /* -1 when every particle is healthy */
     double load_power, kinetic, internal;
     double probe_displacement[3];
     double momentum[3];
@@ -165,8 +164,9 @@ struct solver {
     struct grid grid;
     struct kernels k;
     struct sph_run_params run;
-    double skin;            /* grid margin as a fraction of the support */
-    double thickness_scale; /* 2-D: thickness, so energies come out in J */
+    double skin;             /* grid margin as a fraction of the support */
+    double moved_since_sort; /* bound on any particle's drift since the last sort, m */
+    double thickness_scale;  /* 2-D: thickness, so energies come out in J */
     int probe_count;
     struct projectile projectile;
 };

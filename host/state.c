@@ -22,7 +22,6 @@ const struct field_info field_table[FIELD_COUNT] = {
     [FIELD_FLAGS] = {"flags", ELEM_INT, MIRROR_FLAGS},
     [FIELD_MATERIAL] = {"material", ELEM_INT, MIRROR_COPY},
     [FIELD_ID] = {"id", ELEM_INT, MIRROR_NONE},
-    [FIELD_POS_AT_SORT] = {"position_at_sort", ELEM_VEC, MIRROR_NONE},
     [FIELD_VELOCITY_GRADIENT] = {"velocity_gradient", ELEM_FULLT, MIRROR_NONE},
     [FIELD_DENSITY_RATE] = {"density_rate", ELEM_REAL, MIRROR_NONE},
     [FIELD_CSPH] = {"csph_correction", ELEM_SYMT, MIRROR_REFLECT}, /* symmetric: pass1.cl */
@@ -370,7 +369,6 @@ int solver_create_buffers(struct solver *s, const struct sph_case *c, const stru
 
     upload_vectors(s, s->field[FIELD_POS], scene->position, s->n_real);
     upload_vectors(s, s->field[FIELD_POS0], scene->position, s->n_real);
-    upload_vectors(s, s->field[FIELD_POS_AT_SORT], scene->position, s->n_real);
     upload_vectors(s, s->field[FIELD_VEL], scene->velocity, s->n_real);
     upload_vectors(s, s->field[FIELD_VEL_HALF], scene->velocity, s->n_real);
     upload_reals(s, s->field[FIELD_RHO], scene->density, (size_t)s->n_real);
@@ -388,8 +386,8 @@ int solver_create_buffers(struct solver *s, const struct sph_case *c, const stru
     upload_reals(s, s->field[FIELD_TEMPERATURE], temperature, (size_t)s->n_real);
     free(temperature);
     static const enum field uploaded[] = {
-        FIELD_POS,  FIELD_POS0,     FIELD_POS_AT_SORT, FIELD_VEL,         FIELD_VEL_HALF, FIELD_RHO,
-        FIELD_MASS, FIELD_MATERIAL, FIELD_FLAGS,       FIELD_TEMPERATURE, FIELD_ID};
+        FIELD_POS,  FIELD_POS0,     FIELD_VEL,   FIELD_VEL_HALF,    FIELD_RHO,
+        FIELD_MASS, FIELD_MATERIAL, FIELD_FLAGS, FIELD_TEMPERATURE, FIELD_ID};
     for (int f = 0; f < FIELD_COUNT; ++f) {
         int is_uploaded = 0;
         for (size_t k = 0; k < sizeof uploaded / sizeof uploaded[0]; ++k)

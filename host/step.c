@@ -67,7 +67,6 @@ static void create_kernels(struct solver *s)
     k->bitonic_step = make_kernel(s, "grid_bitonic_step");
     k->fill_int = make_kernel(s, "grid_fill_int");
     k->cell_ranges = make_kernel(s, "grid_cell_ranges");
-    k->mark_sorted = make_kernel(s, "grid_mark_sorted");
     k->bounds = make_kernel(s, "grid_bounds");
     k->gather[ELEM_REAL] = make_kernel(s, "grid_gather_real");
     k->gather[ELEM_INT] = make_kernel(s, "grid_gather_int");
@@ -91,12 +90,12 @@ static void create_kernels(struct solver *s)
 
 static void release_kernels(struct solver *s)
 {
-    cl_kernel *all[] = {
-        &s->k.cell_keys,       &s->k.bitonic_step,  &s->k.fill_int,       &s->k.cell_ranges,
-        &s->k.mark_sorted,     &s->k.bounds,        &s->k.pass1,          &s->k.material,
-        &s->k.pass2,           &s->k.kick,          &s->k.drift,          &s->k.reduce,
-        &s->k.neighbour_count, &s->k.tl_correction, &s->k.tl_deformation, &s->k.tl_first_piola,
-        &s->k.tl_momentum,     &s->k.health,        &s->k.neighbour_reach};
+    cl_kernel *all[] = {&s->k.cell_keys,     &s->k.bitonic_step,   &s->k.fill_int,
+                        &s->k.cell_ranges,   &s->k.bounds,         &s->k.pass1,
+                        &s->k.material,      &s->k.pass2,          &s->k.kick,
+                        &s->k.drift,         &s->k.reduce,         &s->k.neighbour_count,
+                        &s->k.tl_correction, &s->k.tl_deformation, &s->k.tl_first_piola,
+                        &s->k.tl_momentum,   &s->k.health,         &s->k.neighbour_reach};
     for (size_t i = 0; i < sizeof all / sizeof all[0]; ++i)
         if (*all[i])
             clReleaseKernel(*all[i]);
@@ -306,14 +305,6 @@ void solver_gather_persistent(struct solver *s)
     }
 }
 
-static void reorder_fields(struct solver *s)
-{
-    solver_gather_persistent(s);
-    SET_ARGS(s->k.mark_sorted, MEM(s->field[FIELD_POS]), MEM(s->field[FIELD_POS_AT_SORT]),
-             INT(s->n));
-    launch(s, s->k.mark_sorted, (size_t)s->n, 0);
-}
-
 /* The grid arguments every neighbour pass takes (GRID_ARGS). */
 #define GRID_ARG_LIST(s, dims)                                                                     \
     MEM((s)->sort_keys), MEM((s)->cell_start), MEM((s)->cell_end), RAW(sizeof(dims), &(dims))
@@ -324,7 +315,8 @@ int solver_sort(struct solver *s, char *error, size_t error_size)
         return 1;
     sort_keys(s);
     cell_ranges(s);
-    reorder_fields(s);
+    solver_gather_persistent(s);
+    s->moved_since_sort = 0;
     solver_ghosts_reindex(s);
     if (s->graded) {
         const cl_int4 dims = {{s->grid.dims[0], s->grid.dims[1], s->grid.dims[2], 0}};
@@ -500,7 +492,7 @@ static void combine_partials(const struct solver *s, const double *v, struct red
         const double *p = &v[g * SPH_RED_SLOTS];
         out->max_signal = fmax(out->max_signal, p[SPH_RED_MAX_SIGNAL]);
         out->max_speed = fmax(out->max_speed, p[SPH_RED_MAX_SPEED]);
-        out->max_moved = fmax(out->max_moved, p[SPH_RED_MAX_MOVED]);
+        out->max_drift_speed = fmax(out->max_drift_speed, p[SPH_RED_MAX_DRIFT]);
         bad = fmin(bad, p[SPH_RED_BAD_INDEX]);
         out->load_power += p[SPH_RED_LOAD_POWER];
         out->kinetic += p[SPH_RED_KINETIC];
@@ -545,10 +537,10 @@ void solver_reduce(struct solver *s, const double load[3], struct reduction *out
 {
     cl_mem *f = s->field;
     struct real4_arg a_load;
-    SET_ARGS(s->k.reduce, MEM(f[FIELD_POS]), MEM(f[FIELD_POS_AT_SORT]), MEM(f[FIELD_DISPLACEMENT]),
-             MEM(f[FIELD_VEL_HALF]), MEM(f[FIELD_XSPH_VELOCITY]), MEM(f[FIELD_MASS]),
-             MEM(f[FIELD_ENERGY]), MEM(f[FIELD_RHO]), MEM(f[FIELD_FLAGS]), MEM(f[FIELD_MATERIAL]),
-             MEM(f[FIELD_ID]), MEM(f[FIELD_WALL_FORCE]), MEM(s->materials), MEM(s->run_params),
+    SET_ARGS(s->k.reduce, MEM(f[FIELD_POS]), MEM(f[FIELD_DISPLACEMENT]), MEM(f[FIELD_VEL_HALF]),
+             MEM(f[FIELD_XSPH_VELOCITY]), MEM(f[FIELD_MASS]), MEM(f[FIELD_ENERGY]),
+             MEM(f[FIELD_RHO]), MEM(f[FIELD_FLAGS]), MEM(f[FIELD_MATERIAL]), MEM(f[FIELD_ID]),
+             MEM(f[FIELD_WALL_FORCE]), MEM(s->materials), MEM(s->run_params),
              real4_value(s, &a_load, load), MEM(s->partials), INT(s->n));
     launch(s, s->k.reduce, (size_t)s->reduce_groups * REDUCE_GROUP_SIZE, REDUCE_GROUP_SIZE);
     double values[64 * SPH_RED_SLOTS];
@@ -607,10 +599,13 @@ int solver_advance(struct solver *s, double dt, double dt_prev, const double loa
                    struct reduction *red, char *error, size_t error_size)
 {
     /* the total Lagrangian form keeps the reference neighbours: one sort */
-    const int moved = red->max_moved >= 0.5 * s->skin * s->run.support;
+    const int moved = s->moved_since_sort >= 0.5 * s->skin * s->run.support;
     if (!s->total_lagrangian && moved && solver_sort(s, error, error_size))
         return 1;
     solver_step(s, dt, dt_prev, load);
     solver_reduce(s, load, red);
+    /* no particle has drifted farther than the sum of the steps' largest
+     * drift: a bound without a stored position per particle (16 B) */
+    s->moved_since_sort += red->max_drift_speed * dt;
     return 0;
 }

@@ -177,7 +177,7 @@ struct sph_run_params {
 enum sph_reduce_slot {
     SPH_RED_MAX_SIGNAL = 0,   /* max (c + |v|), m/s */
     SPH_RED_MAX_SPEED = 1,    /* max |v|, m/s */
-    SPH_RED_MAX_MOVED = 2,    /* max displacement since last grid sort, m */
+    SPH_RED_MAX_DRIFT = 2,    /* max drift speed |v_half + v_xsph|, m/s */
     SPH_RED_BAD_INDEX = 3,    /* smallest original id of a bad particle, INT_MAX if none;
                                  carried as real: exact below 2^24 ids in float */
     SPH_RED_LOAD_POWER = 4,   /* sum f_ext . v over loaded particles, W (per m in 2-D) */

@@ -123,15 +123,6 @@ GRID_GATHER(grid_gather_vec, vec)
 GRID_GATHER(grid_gather_symt, symt)
 GRID_GATHER(grid_gather_fullt, fullt)
 
-/* reads pos; writes pos_at_sort (the reference for "moved since sort"). */
-__kernel void grid_mark_sorted(__global const vec *restrict pos, __global vec *restrict pos_at_sort,
-                               const int n)
-{
-    const int i = get_global_id(0);
-    if (i < n)
-        pos_at_sort[i] = pos[i];
-}
-
 /* Test hook: for each particle, the original ids of its neighbours within
  * `radius` (excluding itself), through the same neighbour loop the passes
  * use. reads pos, id; writes count, list (max_list per particle). */
