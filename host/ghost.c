@@ -188,8 +188,7 @@ static void compact(struct solver *s)
     set_buffer_arg(g->id_keys, 0, &s->field[FIELD_ID]);
     set_buffer_arg(g->id_keys, 1, &s->sort_keys);
     set_arg(g->id_keys, 2, sizeof(cl_int), &s->n);
-    set_arg(g->id_keys, 3, sizeof(cl_int), &s->padded_n);
-    solver_launch(s, g->id_keys, (size_t)s->padded_n, 0);
+    solver_launch(s, g->id_keys, (size_t)s->n, 0);
     solver_bitonic_sort(s);
     solver_gather_persistent(s);
 }

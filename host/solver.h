@@ -145,7 +145,7 @@ struct reduction {
 
 struct solver {
     struct sph_device *dev;
-    int dim, n, padded_n, double_precision;
+    int dim, n, double_precision;
     int n_real;   /* real particles; n = n_real + ghosts.count slots in use */
     int capacity; /* slots in every field buffer */
     struct ghosts ghosts;

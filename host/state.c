@@ -132,8 +132,8 @@ void solver_memory_breakdown(const struct solver *s, struct solver_memory *out)
         }
     out->name[out->count] = "gather_spare";
     out->bytes[out->count++] = solver_spare_element(s);
-    out->name[out->count] = "sort_keys"; /* padded to a power of two: at most twice */
-    out->bytes[out->count++] = 2 * sizeof(cl_ulong);
+    out->name[out->count] = "sort_keys";
+    out->bytes[out->count++] = sizeof(cl_ulong);
 }
 
 size_t solver_bytes_per_particle(const struct solver *s)
@@ -348,7 +348,7 @@ int solver_create_buffers(struct solver *s, const struct sph_case *c, const stru
                  (double)s->dev->global_memory / (1 << 30));
         return 1;
     }
-    const size_t largest = largest_element(s, FIELD_COUNT) * (size_t)s->padded_n;
+    const size_t largest = largest_element(s, FIELD_COUNT) * (size_t)s->capacity;
     if (largest > s->dev->max_allocation) {
         snprintf(error, error_size,
                  "one buffer of this case needs %.2f GiB but %s allows %.2f GiB per buffer; use a "
@@ -360,7 +360,7 @@ int solver_create_buffers(struct solver *s, const struct sph_case *c, const stru
     for (int f = 0; f < FIELD_COUNT; ++f)
         s->field[f] = create_buffer(s, field_bytes(s, (enum field)f));
     s->gather_spare = create_buffer(s, solver_spare_element(s) * (size_t)s->capacity);
-    s->sort_keys = create_buffer(s, sizeof(cl_ulong) * (size_t)s->padded_n);
+    s->sort_keys = create_buffer(s, sizeof(cl_ulong) * (size_t)s->capacity);
     s->partials = create_buffer(s, s->element_size[ELEM_REAL] * SPH_RED_SLOTS * s->reduce_groups);
     s->bounds_partials = create_buffer(s, s->element_size[ELEM_REAL] * 6 * s->reduce_groups);
     s->materials = create_buffer(s, sizeof(struct material_double) * SPH_MAX_MATERIALS);

@@ -162,9 +162,6 @@ int solver_create(struct solver *s, struct sph_device *dev, const struct sph_cas
     s->element_size[ELEM_FULLT] = (s->dim == 2 ? 4 : 16) * r;
     fill_run_params(s, c);
     solver_ghosts_setup(s, c, scene);
-    s->padded_n = LOCAL_SIZE; /* the bitonic launch covers at least one work-group */
-    while (s->padded_n < s->capacity)
-        s->padded_n <<= 1;
     if (solver_create_buffers(s, c, scene, error, error_size))
         return 1;
     solver_upload_constants(s, c);
@@ -260,19 +257,24 @@ static void sort_keys(struct solver *s)
     struct real_arg inv_cell;
     cl_int4 dims = {{s->grid.dims[0], s->grid.dims[1], s->grid.dims[2], 0}};
     SET_ARGS(s->k.cell_keys, MEM(s->field[FIELD_POS]), MEM(s->sort_keys), INT(s->n),
-             INT(s->padded_n), real4_value(s, &origin, s->grid.origin),
+             real4_value(s, &origin, s->grid.origin),
              real_value(s, &inv_cell, 1.0 / s->grid.cell_size), RAW(sizeof dims, &dims));
-    launch(s, s->k.cell_keys, (size_t)s->padded_n, 0);
+    launch(s, s->k.cell_keys, (size_t)s->n, 0);
     solver_bitonic_sort(s);
 }
 
 void solver_bitonic_sort(struct solver *s)
 {
-    /* bitonic network: log2(N) (log2(N) + 1) / 2 compare-exchange stages */
-    for (cl_uint k = 2; k <= (cl_uint)s->padded_n; k <<= 1)
+    /* bitonic network over the next power of two N >= n, log2(N) (log2(N)
+     * + 1) / 2 compare-exchange stages, the keys past n virtual
+     * (kernels/grid.cl) */
+    const cl_uint n = (cl_uint)s->n;
+    for (cl_uint k = 2; k / 2 < n; k <<= 1)
         for (cl_uint j = k >> 1; j > 0; j >>= 1) {
-            SET_ARGS(s->k.bitonic_step, MEM(s->sort_keys), RAW(sizeof j, &j), RAW(sizeof k, &k));
-            launch(s, s->k.bitonic_step, (size_t)s->padded_n, 0);
+            const cl_int flip = j == k >> 1;
+            SET_ARGS(s->k.bitonic_step, MEM(s->sort_keys), RAW(sizeof j, &j), INT(flip),
+                     RAW(sizeof n, &n));
+            launch(s, s->k.bitonic_step, (size_t)s->n, 0);
         }
 }
 

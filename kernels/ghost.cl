@@ -32,12 +32,11 @@ __kernel void ghost_index_of_id(__global const int *restrict id, __global int *r
  * original order, then ghosts), to compact the arrays before the ghosts are
  * rebuilt. reads id; writes sort_keys. */
 __kernel void ghost_id_keys(__global const int *restrict id, __global ulong *restrict sort_keys,
-                            const int n, const int padded_n)
+                            const int n)
 {
     const int i = get_global_id(0);
-    if (i >= padded_n)
-        return;
-    sort_keys[i] = i < n ? ((ulong)(uint)id[i] << 32) | (ulong)(uint)i : ~(ulong)0;
+    if (i < n)
+        sort_keys[i] = ((ulong)(uint)id[i] << 32) | (ulong)(uint)i;
 }
 
 /* New ghosts occupy slots n_real .. n_real + ghost_count - 1 right after a

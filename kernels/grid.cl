@@ -6,18 +6,14 @@
  * the result is deterministic (no atomics).
  */
 
-/* reads pos; writes sort_keys (padded to a power of two with ~0). */
+/* reads pos; writes sort_keys. */
 __kernel void grid_cell_keys(__global const vec *restrict pos, __global ulong *restrict sort_keys,
-                             const int n, const int padded_n, const real4 origin,
-                             const real inv_cell_size, const int4 grid_dims)
+                             const int n, const real4 origin, const real inv_cell_size,
+                             const int4 grid_dims)
 {
     const int i = get_global_id(0);
-    if (i >= padded_n)
+    if (i >= n)
         return;
-    if (i >= n) {
-        sort_keys[i] = ~(ulong)0;
-        return;
-    }
     const vec p = pos[i];
     int cx = (int)floor((p.x - origin.x) * inv_cell_size);
     int cy = (int)floor((p.y - origin.y) * inv_cell_size);
@@ -69,16 +65,21 @@ grid_bounds(__global const vec *restrict pos, __global real *restrict partials, 
         }
 }
 
-/* One compare-exchange stage (k, j) of a bitonic sort, ascending. */
-__kernel void grid_bitonic_step(__global ulong *restrict keys, const uint j, const uint k)
+/* One compare-exchange stage of a bitonic sort of n keys, every exchange
+ * ascending: a merge of blocks of 2j first compares each key with its
+ * mirror in the block (flip: partner i ^ (2j - 1)), then halves (partner
+ * i ^ j). With no descending exchange, the keys a power-of-two network
+ * would have past n act as +infinity that never moves, so they need no
+ * storage: a partner at or past n is skipped. */
+__kernel void grid_bitonic_step(__global ulong *restrict keys, const uint j, const int flip,
+                                const uint n)
 {
     const uint i = get_global_id(0);
-    const uint partner = i ^ j;
-    if (partner <= i)
+    const uint partner = flip ? i ^ (2 * j - 1) : i ^ j;
+    if (partner <= i || partner >= n)
         return;
     const ulong a = keys[i], b = keys[partner];
-    const bool ascending = (i & k) == 0;
-    if ((a > b) == ascending) {
+    if (a > b) {
         keys[i] = b;
         keys[partner] = a;
     }

@@ -230,6 +230,39 @@ static void run_faces(int dim, int per_axis)
     free(xyz);
 }
 
+/* The sort itself: keys in order and a permutation of the slots, for
+ * counts that are and are not powers of two (the bitonic network keeps no
+ * padding past n: kernels/grid.cl). */
+static void test_sort_any_count(void **state)
+{
+    (void)state;
+    const int counts[] = {1, 2, 3, 5, 64, 127, 1000, 1025};
+    for (size_t c = 0; c < sizeof counts / sizeof counts[0]; ++c) {
+        const int n = counts[c];
+        double *xyz = malloc(sizeof(double) * 3 * n);
+        random_points(xyz, n, 3, 10.0);
+        struct fixture f;
+        setup(&f, 3, xyz, n);
+        cl_ulong *keys = malloc(sizeof(cl_ulong) * n);
+        int *seen = calloc((size_t)n, sizeof(int));
+        CL_CHECK(clEnqueueReadBuffer(f.dev.queue, f.s.sort_keys, CL_TRUE, 0, sizeof(cl_ulong) * n,
+                                     keys, 0, NULL, NULL));
+        for (int k = 0; k < n; ++k) {
+            if (k > 0)
+                assert_true(keys[k - 1] <= keys[k]);
+            const int slot = (int)(keys[k] & 0xffffffffu);
+            assert_true(slot >= 0 && slot < n);
+            seen[slot]++;
+        }
+        for (int k = 0; k < n; ++k)
+            assert_int_equal(seen[k], 1);
+        free(seen);
+        free(keys);
+        teardown(&f);
+        free(xyz);
+    }
+}
+
 static void test_random_2d(void **state)
 {
     (void)state, run_random(2, 3000, 60.0);
@@ -250,9 +283,8 @@ static void test_cell_faces_3d(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_random_2d),
-        cmocka_unit_test(test_random_3d),
-        cmocka_unit_test(test_cell_faces_2d),
+        cmocka_unit_test(test_sort_any_count), cmocka_unit_test(test_random_2d),
+        cmocka_unit_test(test_random_3d),      cmocka_unit_test(test_cell_faces_2d),
         cmocka_unit_test(test_cell_faces_3d),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
