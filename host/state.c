@@ -491,7 +491,7 @@ static void stress_to_tensor6(const double *sym, int dim, double p, double out[6
 
 int solver_read_fields(struct solver *s, struct host_fields *o)
 {
-    const int vw = s->dim == 2 ? 2 : 4, sw = s->dim == 2 ? 4 : 8;
+    const int vw = s->dim == 2 ? 2 : 4, sw = s->dim == 2 ? 4 : 6;
     double *pos = read_reals(s, FIELD_POS, vw), *pos0 = read_reals(s, FIELD_DISPLACEMENT, vw);
     double *vel = read_reals(s, FIELD_VEL, vw), *rho = read_reals(s, FIELD_RHO, 1);
     double *p = read_reals(s, FIELD_PRESSURE, 1), *e = read_reals(s, FIELD_ENERGY, 1);

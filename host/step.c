@@ -158,7 +158,7 @@ int solver_create(struct solver *s, struct sph_device *dev, const struct sph_cas
     s->element_size[ELEM_REAL] = r;
     s->element_size[ELEM_INT] = sizeof(cl_int);
     s->element_size[ELEM_VEC] = (s->dim == 2 ? 2 : 4) * r;
-    s->element_size[ELEM_SYMT] = (s->dim == 2 ? 4 : 8) * r;
+    s->element_size[ELEM_SYMT] = (s->dim == 2 ? 4 : 6) * r; /* kernels/common.cl's symt */
     s->element_size[ELEM_FULLT] = (s->dim == 2 ? 4 : 16) * r;
     fill_run_params(s, c);
     solver_ghosts_setup(s, c, scene);

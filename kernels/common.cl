@@ -39,7 +39,11 @@ typedef real4 fullt;
 #define VEC_ZERO ((vec)(0, 0))
 #elif SPH_DIM == 3
 typedef real4 vec;
-typedef real8 symt;
+/* a symmetric tensor stored as its six components xx, yy, zz, xy, xz, yz:
+ * 24 B in float, where a real8 would take 32 (docs/performance.md) */
+typedef struct {
+    real c[6];
+} symt;
 typedef real16 fullt;
 #define VEC_ZERO ((vec)(0, 0, 0, 0))
 #else
@@ -74,12 +78,12 @@ static inline void symt_load(symt s, real t[3][3])
     t[0][1] = t[1][0] = s.s3;
     t[0][2] = t[2][0] = t[1][2] = t[2][1] = 0;
 #else
-    t[0][0] = s.s0;
-    t[1][1] = s.s1;
-    t[2][2] = s.s2;
-    t[0][1] = t[1][0] = s.s3;
-    t[0][2] = t[2][0] = s.s4;
-    t[1][2] = t[2][1] = s.s5;
+    t[0][0] = s.c[0];
+    t[1][1] = s.c[1];
+    t[2][2] = s.c[2];
+    t[0][1] = t[1][0] = s.c[3];
+    t[0][2] = t[2][0] = s.c[4];
+    t[1][2] = t[2][1] = s.c[5];
 #endif
 }
 
@@ -88,8 +92,15 @@ static inline symt symt_store(real t[3][3])
 #if SPH_DIM == 2
     return (symt)(t[0][0], t[1][1], t[2][2], t[0][1]);
 #else
-    return (symt)(t[0][0], t[1][1], t[2][2], t[0][1], t[0][2], t[1][2], 0, 0);
+    const symt s = {{t[0][0], t[1][1], t[2][2], t[0][1], t[0][2], t[1][2]}};
+    return s;
 #endif
+}
+
+static inline symt symt_zero(void)
+{
+    real t[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
+    return symt_store(t);
 }
 
 static inline void fullt_load(fullt f, real t[3][3])

@@ -390,7 +390,7 @@ static inline void gather_symt(__global const symt *restrict f, const struct lan
     lanes_union u[3][3];
     for (int l = 0; l < SPH_LANES; ++l) {
         real t[3][3];
-        symt_load(b->first + l < n ? f[b->first + l] : (symt)0, t);
+        symt_load(b->first + l < n ? f[b->first + l] : symt_zero(), t);
         lanes_put_tensor(u, l, t);
     }
     lanes_get_tensor(u, out);
