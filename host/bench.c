@@ -14,7 +14,6 @@
 #include "solver.h"
 
 #define MAX_SCENE_SETS 6
-#define MAX_BENCH_SETS 64
 
 enum suite_tier { TIER_QUICK = 1, TIER_STANDARD = 2, TIER_LARGE = 4 };
 
@@ -141,13 +140,13 @@ static int run_scene(struct sph_device *dev, const struct bench_scene *b,
 {
     char path[2048];
     snprintf(path, sizeof path, "%s/%s", device_source_dir(), b->case_file);
-    char *sets[MAX_SCENE_SETS + MAX_BENCH_SETS];
+    char *sets[MAX_SCENE_SETS + CASE_MAX_SETS];
     int set_count = 0;
     while (set_count < MAX_SCENE_SETS && b->sets[set_count]) {
         sets[set_count] = (char *)b->sets[set_count];
         ++set_count;
     }
-    for (int k = 0; k < o->set_count && k < MAX_BENCH_SETS; ++k)
+    for (int k = 0; k < o->set_count; ++k) /* main.c caps it at CASE_MAX_SETS */
         sets[set_count++] = o->sets[k];
     struct sph_case *c = calloc(1, sizeof *c);
     struct sph_scene scene;

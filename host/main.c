@@ -8,8 +8,6 @@
 #include "run.h"
 #include "sph_case.h"
 
-#define MAX_SETS 128
-
 static const char *const usage_main =
     "usage: sph <command> [options]\n"
     "\n"
@@ -85,9 +83,20 @@ static int positive_int(const char *option, const char *text, int max, int *out)
     return 1;
 }
 
+/* Appends a --set override; 0 (with the message) past CASE_MAX_SETS. */
+static int push_set(char **sets, int *count, char *value)
+{
+    if (*count >= CASE_MAX_SETS) {
+        fprintf(stderr, "sph: more than %d --set options\n", CASE_MAX_SETS);
+        return 0;
+    }
+    sets[(*count)++] = value;
+    return 1;
+}
+
 static int command_bench(int argc, char **argv)
 {
-    char *sets[MAX_SETS];
+    char *sets[CASE_MAX_SETS];
     struct bench_options o = {.warmup = -1, .steps = -1, .repeats = 3, .sets = sets};
     for (int i = 0; i < argc; ++i) {
         const char *a = argv[i];
@@ -103,8 +112,8 @@ static int command_bench(int argc, char **argv)
             o.json_path = argv[++i];
         else if (strcmp(a, "--device") == 0 && value)
             o.device = argv[++i];
-        else if (strcmp(a, "--set") == 0 && value && o.set_count < MAX_SETS)
-            sets[o.set_count++] = argv[++i];
+        else if (strcmp(a, "--set") == 0 && value)
+            ok = push_set(sets, &o.set_count, argv[++i]);
         else if (strcmp(a, "--steps") == 0 && value)
             ok = positive_int(a, argv[++i], 1000000, &o.steps);
         else if (strcmp(a, "--warmup") == 0 && value)
@@ -145,11 +154,8 @@ static int parse_options(int argc, char **argv, struct run_options *o, char **se
         const char *a = argv[i];
         const int has_value = i + 1 < argc;
         if (strcmp(a, "--set") == 0 && has_value) {
-            if (o->set_count >= MAX_SETS) {
-                fprintf(stderr, "sph: more than %d --set options\n", MAX_SETS);
+            if (!push_set(sets, &o->set_count, argv[++i]))
                 return 1;
-            }
-            sets[o->set_count++] = argv[++i];
         } else if (allow_run && strcmp(a, "--out") == 0 && has_value) {
             o->out_dir = argv[++i];
         } else if (allow_run && strcmp(a, "--device") == 0 && has_value) {
@@ -180,7 +186,7 @@ static int parse_options(int argc, char **argv, struct run_options *o, char **se
 static int command_check(int argc, char **argv)
 {
     struct run_options o = {0};
-    char *sets[MAX_SETS];
+    char *sets[CASE_MAX_SETS];
     if (parse_options(argc, argv, &o, sets, 0, usage_check))
         return 1;
     struct sph_case *c = calloc(1, sizeof *c);
@@ -215,7 +221,7 @@ int main(int argc, char **argv)
             return 0;
         }
         struct run_options o = {0};
-        char *sets[MAX_SETS];
+        char *sets[CASE_MAX_SETS];
         if (parse_options(argc - 2, argv + 2, &o, sets, 1, usage_run))
             return 1;
         return run_case(&o);

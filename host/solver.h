@@ -199,7 +199,7 @@ size_t solver_spare_element(const struct solver *s);
 size_t solver_bytes_per_particle(const struct solver *s);
 /* The same, buffer by buffer (fields by name, the gather spare, the sort
  * keys); buffers this formulation does not use are left out. */
-#define SOLVER_MAX_BUFFERS (FIELD_COUNT + ELEM_COUNT + 1)
+#define SOLVER_MAX_BUFFERS (FIELD_COUNT + 2) /* the fields, the gather spare, the keys */
 struct solver_memory {
     int count;
     const char *name[SOLVER_MAX_BUFFERS];
@@ -217,10 +217,11 @@ void solver_prime(struct solver *s);
  * material update, drift. `load` is the force per loaded particle at t^n. */
 void solver_step(struct solver *s, double dt, double dt_prev, const double load[3]);
 void solver_reduce(struct solver *s, const double load[3], struct reduction *out);
-/* A step as `sph run` and `sph bench` take it: re-sort when a particle has
- * moved half the grid's skin since the last sort (by `red`, the last
- * reduction), solver_step, and solver_reduce into `red`. Returns non-zero
- * with `error` when the sort fails. */
+/* A step as `sph run` and `sph bench` take it: re-sort when a particle may
+ * have moved half the grid's skin since the last sort (moved_since_sort,
+ * the sum of the steps' largest drift x dt), solver_step, and
+ * solver_reduce into `red`. Returns non-zero with `error` when the sort
+ * fails. */
 int solver_advance(struct solver *s, double dt, double dt_prev, const double load[3],
                    struct reduction *red, char *error, size_t error_size);
 

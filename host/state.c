@@ -61,10 +61,8 @@ void solver_build_options(const struct sph_case *c, char *options, size_t size)
     /* -w: PoCL's compiler prints ABI notes (-Wpsabi) about float8/float16
      * arguments on every first build; the sources are kept free of real
      * warnings with clang -x cl -fsyntax-only -Wall (docs/ARCHITECTURE.md) */
-    snprintf(options, size,
-             "-cl-std=CL1.2 -w -DSPH_DIM=%d -DSPH_KERNEL=%d -DSPH_GRID_SPLIT=%d%s%s%s%s%s%s%s%s",
-             c->dimension, (int)num->kernel, SPH_GRID_SPLIT,
-             solver_case_graded(c) ? " -DSPH_GRADED" : "",
+    snprintf(options, size, "-cl-std=CL1.2 -w -DSPH_DIM=%d -DSPH_KERNEL=%d%s%s%s%s%s%s%s%s",
+             c->dimension, (int)num->kernel, solver_case_graded(c) ? " -DSPH_GRADED" : "",
              c->dimension == 2 && c->plane == SPH_PLANE_STRESS         ? " -DSPH_PLANE_STRESS"
              : c->dimension == 2 && c->plane == SPH_PLANE_AXISYMMETRIC ? " -DSPH_AXISYMMETRIC"
                                                                        : "",

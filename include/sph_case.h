@@ -80,6 +80,9 @@ struct case_box {
     double max[3];
 };
 
+/* The most --set overrides a command takes (sph run, check, bench). */
+#define CASE_MAX_SETS 128
+
 struct case_load {
     int enabled;
     double force[3];       /* total force on the group, N; divided evenly */

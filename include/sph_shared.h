@@ -71,9 +71,7 @@ enum sph_flag {
  * more cell lookups and, in the lane passes, wider boxes around a lane
  * block; measured on the 3-D Taylor bar, 1 is as fast as 2 and faster than
  * 3 (docs/performance.md). */
-#ifndef SPH_GRID_SPLIT /* the host passes its own value to the kernels */
 #define SPH_GRID_SPLIT 1
-#endif
 #define SPH_REACH_SHIFT 12
 #define SPH_REACH_MASK 255
 

@@ -235,6 +235,21 @@ static inline int2 cell_row_span(__global const int *restrict cell_start,
     }                                                                                              \
     }
 
+/* out = a . b, summed over the first SPH_DIM indices (out must not be a
+ * or b) */
+static inline void matrix_product(real a[3][3], real b[3][3], real out[3][3])
+{
+#pragma unroll
+    for (int p = 0; p < 3; ++p)
+#pragma unroll
+        for (int q = 0; q < 3; ++q) {
+            out[p][q] = 0;
+#pragma unroll
+            for (int k = 0; k < SPH_DIM; ++k)
+                out[p][q] += a[p][k] * b[k][q];
+        }
+}
+
 /* Inverse of a dim x dim matrix whose determinant is near 1 (a CSPH moment
  * matrix, a deformation gradient); falls back to the identity when it is
  * nearly singular (isolated particles, a line of particles). */

@@ -230,6 +230,15 @@ static inline int lane_block_setup(struct lane_block *b, __global const int *res
     return any_live;
 }
 
+/* Whether lane l of a block holds a particle its pass updates (set up by
+ * lane_block_setup: not past n, not a ghost). */
+static inline bool lane_live(const struct lane_block *b, int l)
+{
+    mask_union u;
+    u.v = b->live;
+    return u.s[l] != 0;
+}
+
 /* FOR_EACH_LANE_NEIGHBOUR(block, j) { ... } END_FOR_EACH_LANE_NEIGHBOUR:
  * every j in the cells within SPH_GRID_SPLIT of the block's box; rows of
  * cells are contiguous in the sorted order, as in FOR_EACH_NEIGHBOUR. */
@@ -347,9 +356,9 @@ __kernel void pass1_lanes(__global const vec *restrict pos, __global const vec *
     }
     END_FOR_EACH_LANE_NEIGHBOUR
     for (int l = 0; l < SPH_LANES; ++l) {
-        const int i = b.first + l;
-        if (i >= n || (flags[i] & SPH_FLAG_GHOST))
+        if (!lane_live(&b, l))
             continue;
+        const int i = b.first + l;
         real gv[3][3], m[3][3];
 #pragma unroll
         for (int a = 0; a < 3; ++a)
@@ -358,29 +367,9 @@ __kernel void pass1_lanes(__global const vec *restrict pos, __global const vec *
                 gv[a][c] = lane_of(grad_v[a][c], l);
                 m[a][c] = lane_of(moment[a][c], l);
             }
-        pass1_finish(i, gv, m, pos[i], vel[i], rho, material, flags, materials, run, csph, dt, pos,
-                     vel, MATERIAL_STATE);
+        pass1_finish(i, gv, m, rho, material, flags, materials, run, csph, dt, pos, vel,
+                     MATERIAL_STATE);
     }
-}
-
-/* The lanes' 3 x 3 tensors as vectors: lane l's tensor t goes in with
- * lanes_put_tensor, the vectors come out with lanes_get_tensor. */
-static inline void lanes_put_tensor(lanes_union u[3][3], int l, real t[3][3])
-{
-#pragma unroll
-    for (int a = 0; a < 3; ++a)
-#pragma unroll
-        for (int c = 0; c < 3; ++c)
-            u[a][c].s[l] = t[a][c];
-}
-
-static inline void lanes_get_tensor(lanes_union u[3][3], realv out[3][3])
-{
-#pragma unroll
-    for (int a = 0; a < 3; ++a)
-#pragma unroll
-        for (int c = 0; c < 3; ++c)
-            out[a][c] = u[a][c].v;
 }
 
 /* A symmetric 3 x 3 tensor per lane (stress, artificial stress, CSPH). */
@@ -391,12 +380,18 @@ static inline void gather_symt(__global const symt *restrict f, const struct lan
     for (int l = 0; l < SPH_LANES; ++l) {
         real t[3][3];
         symt_load(b->first + l < n ? f[b->first + l] : symt_zero(), t);
-        lanes_put_tensor(u, l, t);
+#pragma unroll
+        for (int a = 0; a < 3; ++a)
+#pragma unroll
+            for (int c = 0; c < 3; ++c)
+                u[a][c].s[l] = t[a][c];
     }
-    lanes_get_tensor(u, out);
+#pragma unroll
+    for (int a = 0; a < 3; ++a)
+#pragma unroll
+        for (int c = 0; c < 3; ++c)
+            out[a][c] = u[a][c].v;
 }
-#ifdef SPH_CSPH
-#endif
 
 #ifdef SPH_ARTIFICIAL_STRESS
 /* Monaghan's (2000) weight (W(r) / W(dx))^n per lane (pass2.cl). */
@@ -571,9 +566,9 @@ pass2_lanes(__global const vec *restrict pos, __global const vec *restrict pos0,
     }
     END_FOR_EACH_LANE_NEIGHBOUR
     for (int l = 0; l < SPH_LANES; ++l) {
-        const int i = b.first + l;
-        if (i >= n || (flags[i] & SPH_FLAG_GHOST))
+        if (!lane_live(&b, l))
             continue;
+        const int i = b.first + l;
         acceleration[i] = vec_make(lane_of(acc[0], l), lane_of(acc[1], l), lane_of(acc[2], l));
         energy_rate[i] = lane_of(de, l);
 #ifdef SPH_XSPH

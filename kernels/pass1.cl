@@ -23,9 +23,9 @@
  * the CSPH correction C_i = B_i^-1 (symmetric, since grad W_ij is along
  * x_ij) applied to L_i, the density rate, and the material update. */
 static inline void
-pass1_finish(int i, real grad_v[3][3], real moment[3][3], vec xi, vec vi,
-             __global const real *restrict rho, __global const int *restrict material,
-             __global const int *restrict flags, __constant const struct sph_material *materials,
+pass1_finish(int i, real grad_v[3][3], real moment[3][3], __global const real *restrict rho,
+             __global const int *restrict material, __global const int *restrict flags,
+             __constant const struct sph_material *materials,
              __constant const struct sph_run_params *run, __global symt *restrict csph,
              const real dt, __global const vec *restrict pos, __global const vec *restrict vel,
              MATERIAL_STATE_ARGS)
@@ -34,20 +34,10 @@ pass1_finish(int i, real grad_v[3][3], real moment[3][3], vec xi, vec vi,
     (void)moment;
     (void)csph;
 #endif
-    (void)xi;
-    (void)vi;
 #ifdef SPH_CSPH
     real c[3][3], corrected[3][3];
     matrix_invert_or_identity(moment, c);
-#pragma unroll
-    for (int a = 0; a < 3; ++a)
-#pragma unroll
-        for (int b = 0; b < 3; ++b) {
-            corrected[a][b] = 0;
-#pragma unroll
-            for (int e = 0; e < SPH_DIM; ++e)
-                corrected[a][b] += grad_v[a][e] * c[e][b];
-        }
+    matrix_product(grad_v, c, corrected);
 #pragma unroll
     for (int a = 0; a < 3; ++a)
 #pragma unroll
@@ -57,7 +47,7 @@ pass1_finish(int i, real grad_v[3][3], real moment[3][3], vec xi, vec vi,
 #endif
     real divergence = grad_v[0][0] + grad_v[1][1] + grad_v[2][2];
 #ifdef SPH_AXISYMMETRIC
-    divergence += vi.x / axis_radius(xi.x, run); /* hoop strain rate v_r / r */
+    divergence += vel[i].x / axis_radius(pos[i].x, run); /* hoop strain rate v_r / r */
 #endif
 #ifdef SPH_PLANE_STRESS
     /* sigma_zz = 0 needs eps_zz rate = -nu/(1-nu) (eps_xx + eps_yy) (Hooke) */
@@ -112,6 +102,6 @@ pass1_velocity_gradient(__global const vec *restrict pos, __global const vec *re
 #ifndef SPH_CSPH
     real moment[3][3];
 #endif
-    pass1_finish(i, grad_v, moment, xi, vi, rho, material, flags, materials, run, csph, dt, pos,
-                 vel, MATERIAL_STATE);
+    pass1_finish(i, grad_v, moment, rho, material, flags, materials, run, csph, dt, pos, vel,
+                 MATERIAL_STATE);
 }

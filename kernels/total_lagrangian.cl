@@ -79,20 +79,6 @@ __kernel void tl_correction(__global const vec *restrict pos0, __global const re
     correction[i] = symt_store(c); /* symmetric: grad W_ij is along X_ij */
 }
 
-/* out = a . b over the first SPH_DIM rows and columns */
-static inline void tl_matmul(real a[3][3], real b[3][3], real out[3][3])
-{
-#pragma unroll
-    for (int p = 0; p < 3; ++p)
-#pragma unroll
-        for (int q = 0; q < 3; ++q) {
-            out[p][q] = 0;
-#pragma unroll
-            for (int k = 0; k < SPH_DIM; ++k)
-                out[p][q] += a[p][k] * b[k][q];
-        }
-}
-
 /* F^n from the positions x^n, and its rate from the motion of this step,
  * w = v^(n+1/2) + v_xsph (the velocity integrate_drift moves particles
  * with), so that F^(n+1) = F^n + dt dF/dt is exactly the gradient of
@@ -138,8 +124,8 @@ tl_deformation(__global const vec *restrict pos, __global const vec *restrict po
     END_FOR_EACH_NEIGHBOUR
     real c[3][3], f[3][3], f_rate[3][3], f_mid[3][3], f_mid_inv[3][3], l[3][3];
     symt_load(correction[i], c);
-    tl_matmul(sum_x, c, f);
-    tl_matmul(sum_w, c, f_rate);
+    matrix_product(sum_x, c, f);
+    matrix_product(sum_w, c, f_rate);
 #pragma unroll
     for (int a = 0; a < 3; ++a)
 #pragma unroll
@@ -148,7 +134,7 @@ tl_deformation(__global const vec *restrict pos, __global const vec *restrict po
             f[a][b] += dt * f_rate[a][b];
         }
     matrix_invert_or_identity(f_mid, f_mid_inv);
-    tl_matmul(f_rate, f_mid_inv, l);
+    matrix_product(f_rate, f_mid_inv, l);
     real divergence = l[0][0] + l[1][1] + l[2][2];
 #ifdef SPH_PLANE_STRESS
     /* sigma_zz = 0 needs eps_zz rate = -nu/(1-nu) (eps_xx + eps_yy) (Hooke) */
@@ -195,8 +181,8 @@ __kernel void tl_first_piola(__global const real *restrict rho,
             }
         }
     const real volume_ratio = materials[material[i]].density / rho[i];
-    tl_matmul(sigma, f_inv_t, p);
-    tl_matmul(p, c_t, a);
+    matrix_product(sigma, f_inv_t, p);
+    matrix_product(p, c_t, a);
 #pragma unroll
     for (int r = 0; r < 3; ++r)
 #pragma unroll

@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """How much of the lane passes' arithmetic is masked, by geometry alone.
 
 kernels/lanes.cl gives a work-item SPH_LANES particles that are consecutive

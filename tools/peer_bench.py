@@ -44,6 +44,7 @@ Writes RESULTS/peers.json and RESULTS/peers.md (default results/peers/).
 
 import argparse
 import datetime
+import functools
 import json
 import math
 import os
@@ -56,7 +57,7 @@ import sys
 import tempfile
 import time
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+from studylib import ROOT, SPH  # noqa: E402 (standard library only, like this file)
 CASE = "cases/taylor_3d_4340.yaml"
 
 # The bar, as in the case file (SI units).
@@ -69,6 +70,7 @@ POISSON = 0.27569
 JC = dict(A=792.0e6, B=510.0e6, n=0.26, C=0.014, rate0=1.0, T_room=293.0, T_melt=1793.0, m=1.03)
 HEAT_CAPACITY = 460.0
 CFL = 0.3
+H_OVER_DX = 1.2  # h / dx in every code: support 2h = 2.4 dx
 
 
 def cache_dir():
@@ -110,16 +112,13 @@ def time_step(dx):
     bulk = YOUNG / (3.0 * (1.0 - 2.0 * POISSON))
     shear = YOUNG / (2.0 * (1.0 + POISSON))
     c = math.sqrt((bulk + 4.0 * shear / 3.0) / DENSITY)
-    return CFL * 1.2 * dx / (c + SPEED)
+    return CFL * H_OVER_DX * dx / (c + SPEED)
 
 
-def run_cmd(cmd, env=None, cwd=None, timeout=None, logfile=None):
+def run_cmd(cmd, env=None, cwd=None):
     t0 = time.perf_counter()
-    p = subprocess.run(cmd, env=env, cwd=cwd, timeout=timeout, stdout=subprocess.PIPE,
-                       stderr=subprocess.STDOUT, text=True)
-    if logfile:
-        with open(logfile, "w") as f:
-            f.write(p.stdout)
+    p = subprocess.run(cmd, env=env, cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                       text=True)
     return p.returncode, p.stdout, time.perf_counter() - t0
 
 
@@ -159,7 +158,7 @@ def ours(args, dx, formulation, precision, work, snapshot):
     sets = ["symmetry=[]",
             "bodies.bar.min=[%r,%r,0]" % (-RADIUS, -RADIUS),
             "bodies.bar.max=[%r,%r,%r]" % (RADIUS, RADIUS, LENGTH),
-            "numerics.dx=%r" % dx, "numerics.h_over_dx=1.2",
+            "numerics.dx=%r" % dx, "numerics.h_over_dx=%r" % H_OVER_DX,
             "numerics.formulation=%s" % formulation, "numerics.precision=%s" % precision,
             "output.snapshot_interval=1", "output.history_interval=1"]
     runs = []
@@ -221,6 +220,7 @@ def ours(args, dx, formulation, precision, work, snapshot):
 
 # -------------------------------------------------------------------- LAMMPS
 
+@functools.lru_cache(maxsize=None)  # `lmp -h` once per binary: lammps() wants its text again
 def lmp_has_machdyn(lmp, env=None):
     try:
         p = subprocess.run([lmp, "-h"], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
@@ -344,10 +344,7 @@ run             {steps}
 
 
 def lammps(args, dx, steps, work, threads, found):
-    lmp, mpiexec, note = found
-    if lmp is None:
-        log("LAMMPS skipped: " + note)
-        return dict(code="LAMMPS", skipped=note)
+    lmp, mpiexec, note = found  # main() skips a peer that was not found
     _, help_text = lmp_has_machdyn(lmp)
     version = next((line.strip() for line in help_text.splitlines() if line.strip()), "?")
     (x0, _), (z0, nz) = lattice_axis(-RADIUS, RADIUS, dx), lattice_axis(0.0, LENGTH, dx)
@@ -441,18 +438,14 @@ def find_pysph(args):
 
 
 def pysph(args, dx, steps, work, threads, found):
-    python, version, note = found
-    if python is None:
-        log("PySPH skipped: " + note)
-        return dict(code="PySPH", skipped=note)
+    python, version, note = found  # main() skips a peer that was not found
     folder = os.path.join(work, "pysph_%d" % threads)
     cmd = [python, os.path.join(ROOT, "tools", "peers", "pysph_taylor.py"), "--dx", repr(dx),
-           "--steps", str(steps), "--warmup", str(args.warmup), "--threads", str(threads),
+           "--dt", repr(time_step(dx)), "--steps", str(steps), "--warmup", str(args.warmup), "--threads", str(threads),
            "--out", folder]
     log("PySPH %s (%s): %d + %d steps ..." % (
         version, "OpenMP, %d threads" % threads if threads > 1 else "serial", args.warmup, steps))
-    rc, out, _ = run_cmd(cmd, cwd=folder if os.path.isdir(folder) else None,
-                         logfile=None)
+    rc, out, _ = run_cmd(cmd)
     result_file = os.path.join(folder, "pysph_result.json")
     if rc != 0 or not os.path.exists(result_file):
         note = "pysph_taylor.py exited %d: %s" % (rc, out[-1500:])
@@ -493,13 +486,14 @@ def write_reports(args, meta, results):
               meta["load_after"]), "",
              "Command: `%s`" % meta["command"], "",
              "impact-sph: a copy of %s (built %s) with the include/ and kernels/ it "
-             "reads, from commit %s%s." % (args.sph, meta.get("sph_binary_mtime"),
+             "reads, from commit %s%s." % (os.path.relpath(os.path.join(ROOT, args.sph), ROOT), meta.get("sph_binary_mtime"),
                  meta["source"]["commit"],
                  " with uncommitted changes to %s" % ", ".join(
                      u.split()[-1] for u in meta["source"]["uncommitted"])
                  if meta["source"]["uncommitted"] else ""), "",
-             "Target %d particles: dx = %.4g m, h = 1.2 dx; %d timed steps after %d warm-up "
-             "steps." % (args.particles, meta["dx_m"], args.steps, args.warmup), "",
+             "Target %d particles: dx = %.4g m, h = %g dx; %d timed steps after %d warm-up "
+             "steps (each code's row gives the steps it timed)." % (
+                 args.particles, meta["dx_m"], H_OVER_DX, args.steps, args.warmup), "",
              "| code | variant | parallel | particles | steps | wall (s) | particle-steps/s "
              "| neighbours | dt (s) |",
              "| --- | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: |"]
@@ -591,7 +585,7 @@ def main():
     ap.add_argument("--peer-threads", type=int, nargs="+",
                     help="cores for the peers' runs, one run per number (default: --threads, "
                          "and 1 with --peer-serial)")
-    ap.add_argument("--sph", default="build/sph", help="the sph binary (default build/sph)")
+    ap.add_argument("--sph", default=SPH, help="the sph binary (default $SPH, else build/sph)")
     ap.add_argument("--results", default=os.path.join(ROOT, "results", "peers"),
                     help="folder for peers.json and peers.md (default results/peers/)")
     ap.add_argument("--work", help="folder for the run folders (default: a temporary folder "
@@ -614,7 +608,7 @@ def main():
                 host=platform.node(), cpu=cpu_name(), cores=os.cpu_count(),
                 load_before="%.2f %.2f %.2f" % os.getloadavg(),
                 command=" ".join(shlex.quote(a) for a in ["/usr/bin/python3"] + sys.argv),
-                dx_m=dx, h_over_dx=1.2, lattice_particles=n, geometry="full cylinder",
+                dx_m=dx, h_over_dx=H_OVER_DX, lattice_particles=n, geometry="full cylinder",
                 source=source_state(),
                 work=work)
     results = []

@@ -18,9 +18,10 @@ per h/dx, kernels down, (artificial stress, CSPH) across, green for healthy,
 orange for clumped or torn but completed, red for a run that blew up, grey
 for a run stopped at --max-wall.
 
-Default size: 3 cases x 6 kernels x 2 x 2 x h/dx (1.2, 2.0) = 144 runs, about 24
-minutes of CPU time (docs/stability.md; the full map with h/dx 1.5 as well,
-about 33). --max-wall stops a run that crawls on after a blow-up.
+Default size: 3 cases x 6 kernels x 2 x 2 x h/dx (1.2, 2.0) = 144 runs, 25.8
+minutes of wall time on two cores as measured in docs/stability.md (the full
+map with h/dx 1.5 as well: about 39 by the same per-run cost). --max-wall
+stops a run that crawls on after a blow-up.
 
 Cases (each at dx = 2 mm by default): tension = cases/tension_bar_2d.yaml
 (2 GPa tension, 0.5 ms), rings = cases/rubber_rings_2d.yaml (Gray, Monaghan

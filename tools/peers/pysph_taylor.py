@@ -5,7 +5,7 @@ Run by peer_bench.py with the Python of a virtual environment that has
 PySPH (it is not meant to be run with the system Python):
 
     VENV/bin/python tools/peers/pysph_taylor.py --dx 2.6e-4 --steps 300 \
-        --warmup 20 --threads 2 --out DIR
+        --dt 1.54e-8 --warmup 20 --threads 2 --out DIR
 
 PySPH ships no 3-D elastic-plastic model (pysph.sph.solid_mech.hvi's
 VonMisesPlasticity2D takes J2 from the in-plane components only, and
@@ -30,29 +30,25 @@ start), and the settings.
 
 import argparse
 import json
-import math
 import os
 import sys
 import time
 
 import numpy as np
 
-# The bar (cases/taylor_3d_4340.yaml, full cylinder), SI units.
-RADIUS = 3.7975e-3
-LENGTH = 37.97e-3
-VELOCITY = -181.0
-DENSITY = 7830.0
-YOUNG = 227.58e9
-POISSON = 0.27569
+# The bar and the lattice as peer_bench.py defines them (standard library
+# only, so this venv's Python imports it too).
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from peer_bench import DENSITY, H_OVER_DX, LENGTH, POISSON, RADIUS, SPEED, YOUNG  # noqa: E402
+from peer_bench import lattice_axis  # noqa: E402
 
 
 def lattice(dx):
     """Positions of impact-sph's fill (host/scene.c) of the full cylinder:
-    floor(L/dx + 0.5) points per axis centred in the bounding box, kept where
+    points centred in the bounding box (peer_bench.lattice_axis), kept where
     x^2 + y^2 <= R^2."""
     def axis(lo, hi):
-        n = max(1, int(math.floor((hi - lo) / dx + 0.5)))
-        start = 0.5 * (lo + hi) - 0.5 * (n - 1) * dx
+        start, n = lattice_axis(lo, hi, dx)
         return start + dx * np.arange(n)
     x1 = axis(-RADIUS, RADIUS)
     z1 = axis(0.0, LENGTH)
@@ -64,11 +60,10 @@ def lattice(dx):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--dx", type=float, required=True)
-    ap.add_argument("--h-over-dx", type=float, default=1.2)
+    ap.add_argument("--dt", type=float, required=True, help="time step (peer_bench.time_step)")
     ap.add_argument("--steps", type=int, required=True, help="timed steps")
     ap.add_argument("--warmup", type=int, default=20, help="untimed steps first")
     ap.add_argument("--threads", type=int, default=2)
-    ap.add_argument("--cfl", type=float, default=0.3)
     ap.add_argument("--out", required=True)
     args = ap.parse_args()
 
@@ -86,17 +81,10 @@ def main():
     from pysph.sph.basic_equations import (ContinuityEquation, MonaghanArtificialViscosity,
                                            XSPHCorrection, VelocityGradient3D)
     from pysph.sph.solid_mech.basic import (IsothermalEOS, MomentumEquationWithStress,
-                                            HookesDeviatoricStressRate,
-                                            MonaghanArtificialStress, EnergyEquationWithStress,
+                                            HookesDeviatoricStressRate, EnergyEquationWithStress,
                                             get_particle_array_elastic_dynamics)
 
-    dx, h = args.dx, args.h_over_dx * args.dx
-    # The same time step rule as impact-sph's: cfl h / (c + |v|), with c the
-    # longitudinal (P-wave) speed.
-    bulk = YOUNG / (3.0 * (1.0 - 2.0 * POISSON))
-    shear = YOUNG / (2.0 * (1.0 + POISSON))
-    c_long = math.sqrt((bulk + 4.0 * shear / 3.0) / DENSITY)
-    dt = args.cfl * h / (c_long + abs(VELOCITY))
+    dx, h, dt = args.dx, H_OVER_DX * args.dx, args.dt
     total = args.warmup + args.steps
     marks = {}
     # impact-sph's anvil (z = 0) pushes on centres closer than dx/2, i.e. on
@@ -117,7 +105,7 @@ def main():
             pa = get_particle_array_elastic_dynamics(
                 name="bar", x=x, y=y, z=z, h=np.full_like(x, h),
                 m=np.full_like(x, DENSITY * dx ** 3), rho=np.full_like(x, DENSITY),
-                w=np.full_like(x, VELOCITY),
+                w=np.full_like(x, -SPEED),
                 constants=dict(E=YOUNG, nu=POISSON, rho_ref=DENSITY,
                                wdeltap=WendlandQuintic(dim=3).kernel(rij=dx, h=h), n=4))
             pa.rho0[:] = DENSITY
@@ -136,7 +124,6 @@ def main():
                 Group(equations=[
                     IsothermalEOS("bar", sources=None),
                     VelocityGradient3D("bar", sources=src),
-                    MonaghanArtificialStress("bar", sources=None, eps=0.0),
                 ]),
                 Group(equations=[
                     ContinuityEquation("bar", sources=src),
@@ -194,10 +181,7 @@ def main():
         "dt_s": dt,
         "threads": args.threads,
         "openmp": bool(get_config().use_openmp),
-        "max_speed_end": float(np.sqrt(pa.u ** 2 + pa.v ** 2 + pa.w ** 2).max()),
         "finite": bool(np.isfinite(pa.x).all() and np.isfinite(pa.w).all()),
-        "model": "elastic (Gray-Monaghan-Swift 3-D equations from pysph.sph.solid_mech.basic); "
-                 "no plasticity: PySPH has no 3-D J2 plasticity",
     }
     with open(os.path.join(args.out, "pysph_result.json"), "w") as f:
         json.dump(result, f, indent=2)
