@@ -27,8 +27,8 @@ enum element_kind { ELEM_REAL, ELEM_INT, ELEM_VEC, ELEM_SYMT, ELEM_FULLT, ELEM_C
 
 /* Per-particle fields. Those before FIELD_PERSISTENT_END are read by some
  * stage of a step before that step writes them (the state, and the derived
- * fields rho, pressure, artificial stress and CSPH correction that one step
- * leaves for the next step's pass 2), so every sort reorders them; the rest
+ * fields rho, pressure, sound speed, artificial stress and CSPH correction
+ * that one step leaves for the next step's pass 2), so every sort reorders them; the rest
  * are written before they are read within a step. */
 enum field {
     FIELD_POS,
@@ -47,6 +47,7 @@ enum field {
     FIELD_ID,
     FIELD_RHO,
     FIELD_PRESSURE,
+    FIELD_SOUND_SPEED, /* m/s, at the current density (kernels/material.cl) */
     FIELD_ARTIFICIAL_STRESS,
     FIELD_CSPH,
     FIELD_DEFORMATION_GRADIENT, /* total Lagrangian only */

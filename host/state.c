@@ -28,6 +28,7 @@ const struct field_info field_table[FIELD_COUNT] = {
     [FIELD_DEFORMATION_GRADIENT] = {"deformation_gradient", ELEM_FULLT, MIRROR_REFLECT},
     [FIELD_FIRST_PIOLA] = {"first_piola_corrected", ELEM_FULLT, MIRROR_REFLECT},
     [FIELD_PRESSURE] = {"pressure", ELEM_REAL, MIRROR_COPY},
+    [FIELD_SOUND_SPEED] = {"sound_speed", ELEM_REAL, MIRROR_COPY},
     [FIELD_ARTIFICIAL_STRESS] = {"artificial_stress", ELEM_SYMT, MIRROR_REFLECT},
     [FIELD_ACCELERATION] = {"acceleration", ELEM_VEC, MIRROR_NONE},
     [FIELD_ENERGY_RATE] = {"energy_rate", ELEM_REAL, MIRROR_NONE},
@@ -378,14 +379,19 @@ int solver_create_buffers(struct solver *s, const struct sph_case *c, const stru
         ids[p] = p;
     upload_ints(s, s->field[FIELD_ID], ids, s->n_real);
     free(ids);
-    double *temperature = malloc(sizeof(double) * (size_t)s->n_real);
+    /* the room temperature, and the unloaded state's wave speed until the
+     * first material update */
+    double *per_particle = malloc(sizeof(double) * (size_t)s->n_real);
     for (int p = 0; p < s->n_real; ++p)
-        temperature[p] = c->materials[scene->material[p]].room_temperature;
-    upload_reals(s, s->field[FIELD_TEMPERATURE], temperature, (size_t)s->n_real);
-    free(temperature);
+        per_particle[p] = c->materials[scene->material[p]].room_temperature;
+    upload_reals(s, s->field[FIELD_TEMPERATURE], per_particle, (size_t)s->n_real);
+    for (int p = 0; p < s->n_real; ++p)
+        per_particle[p] = material_entry(&c->materials[scene->material[p]]).sound_speed;
+    upload_reals(s, s->field[FIELD_SOUND_SPEED], per_particle, (size_t)s->n_real);
+    free(per_particle);
     static const enum field uploaded[] = {
-        FIELD_POS,  FIELD_POS0,     FIELD_VEL,   FIELD_VEL_HALF,    FIELD_RHO,
-        FIELD_MASS, FIELD_MATERIAL, FIELD_FLAGS, FIELD_TEMPERATURE, FIELD_ID};
+        FIELD_POS,      FIELD_POS0,  FIELD_VEL,         FIELD_VEL_HALF,    FIELD_RHO, FIELD_MASS,
+        FIELD_MATERIAL, FIELD_FLAGS, FIELD_TEMPERATURE, FIELD_SOUND_SPEED, FIELD_ID};
     for (int f = 0; f < FIELD_COUNT; ++f) {
         int is_uploaded = 0;
         for (size_t k = 0; k < sizeof uploaded / sizeof uploaded[0]; ++k)

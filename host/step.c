@@ -341,7 +341,7 @@ static size_t pass_items(const struct solver *s)
 #define MATERIAL_STATE_LIST(f)                                                                     \
     MEM(f[FIELD_DENSITY_CHANGE]), MEM(f[FIELD_ENERGY]), MEM(f[FIELD_STRESS]),                      \
         MEM(f[FIELD_PLASTIC_STRAIN]), MEM(f[FIELD_TEMPERATURE]), MEM(f[FIELD_ENERGY_RATE]),        \
-        MEM(f[FIELD_PRESSURE]), MEM(f[FIELD_ARTIFICIAL_STRESS])
+        MEM(f[FIELD_PRESSURE]), MEM(f[FIELD_SOUND_SPEED]), MEM(f[FIELD_ARTIFICIAL_STRESS])
 
 /* Pass 1 and, particle by particle at its end, the material update. */
 static void pass1(struct solver *s, double dt)
@@ -374,8 +374,8 @@ static void pass2(struct solver *s)
     const cl_int4 dims = {{s->grid.dims[0], s->grid.dims[1], s->grid.dims[2], 0}};
     SET_ARGS(s->k.pass2, MEM(f[FIELD_POS]), MEM(f[FIELD_POS0]), MEM(f[FIELD_VEL]),
              MEM(f[FIELD_RHO]), MEM(f[FIELD_MASS]), MEM(f[FIELD_PRESSURE]), MEM(f[FIELD_STRESS]),
-             MEM(f[FIELD_ARTIFICIAL_STRESS]), MEM(f[FIELD_CSPH]), MEM(f[FIELD_MATERIAL]),
-             MEM(f[FIELD_FLAGS]), GRID_ARG_LIST(s, dims), MEM(s->materials), MEM(s->run_params),
+             MEM(f[FIELD_ARTIFICIAL_STRESS]), MEM(f[FIELD_CSPH]), MEM(f[FIELD_SOUND_SPEED]),
+             MEM(f[FIELD_FLAGS]), GRID_ARG_LIST(s, dims), MEM(s->run_params),
              MEM(f[FIELD_ACCELERATION]), MEM(f[FIELD_ENERGY_RATE]), MEM(f[FIELD_XSPH_VELOCITY]),
              INT(s->n));
     launch(s, s->k.pass2, pass_items(s), 0);
@@ -421,8 +421,8 @@ static void tl_momentum(struct solver *s)
     const cl_int4 dims = {{s->grid.dims[0], s->grid.dims[1], s->grid.dims[2], 0}};
     SET_ARGS(s->k.tl_momentum, MEM(f[FIELD_POS]), MEM(f[FIELD_POS0]), MEM(f[FIELD_VEL]),
              MEM(f[FIELD_RHO]), MEM(f[FIELD_MASS]), MEM(f[FIELD_FIRST_PIOLA]),
-             MEM(f[FIELD_DEFORMATION_GRADIENT]), MEM(f[FIELD_MATERIAL]), MEM(f[FIELD_FLAGS]),
-             GRID_ARG_LIST(s, dims), MEM(s->materials), MEM(s->run_params),
+             MEM(f[FIELD_DEFORMATION_GRADIENT]), MEM(f[FIELD_SOUND_SPEED]), MEM(f[FIELD_MATERIAL]),
+             MEM(f[FIELD_FLAGS]), GRID_ARG_LIST(s, dims), MEM(s->materials), MEM(s->run_params),
              MEM(f[FIELD_ACCELERATION]), MEM(f[FIELD_ENERGY_RATE]), MEM(f[FIELD_XSPH_VELOCITY]),
              INT(s->n));
     launch(s, s->k.tl_momentum, (size_t)s->n, 0);
@@ -541,9 +541,9 @@ void solver_reduce(struct solver *s, const double load[3], struct reduction *out
     struct real4_arg a_load;
     SET_ARGS(s->k.reduce, MEM(f[FIELD_POS]), MEM(f[FIELD_DISPLACEMENT]), MEM(f[FIELD_VEL_HALF]),
              MEM(f[FIELD_XSPH_VELOCITY]), MEM(f[FIELD_MASS]), MEM(f[FIELD_ENERGY]),
-             MEM(f[FIELD_RHO]), MEM(f[FIELD_FLAGS]), MEM(f[FIELD_MATERIAL]), MEM(f[FIELD_ID]),
-             MEM(f[FIELD_WALL_FORCE]), MEM(s->materials), MEM(s->run_params),
-             real4_value(s, &a_load, load), MEM(s->partials), INT(s->n));
+             MEM(f[FIELD_RHO]), MEM(f[FIELD_SOUND_SPEED]), MEM(f[FIELD_FLAGS]), MEM(f[FIELD_ID]),
+             MEM(f[FIELD_WALL_FORCE]), MEM(s->run_params), real4_value(s, &a_load, load),
+             MEM(s->partials), INT(s->n));
     launch(s, s->k.reduce, (size_t)s->reduce_groups * REDUCE_GROUP_SIZE, REDUCE_GROUP_SIZE);
     double values[64 * SPH_RED_SLOTS];
     read_partials(s, (size_t)s->reduce_groups * SPH_RED_SLOTS, values);

@@ -407,7 +407,7 @@ static inline realv artificial_stress_weight_v(realv r, real h,
 #endif
 
 /* reads: pos, pos0, vel, rho, mass, pressure, deviatoric_stress,
- * artificial_stress, csph, material; writes: acceleration, energy_rate,
+ * artificial_stress, csph, sound_speed; writes: acceleration, energy_rate,
  * xsph_velocity (as pass2_momentum_energy, whose comments give the
  * equations). */
 __kernel void
@@ -416,10 +416,10 @@ pass2_lanes(__global const vec *restrict pos, __global const vec *restrict pos0,
             __global const real *restrict mass, __global const real *restrict pressure,
             __global const symt *restrict deviatoric_stress,
             __global const symt *restrict artificial_stress, __global const symt *restrict csph,
-            __global const int *restrict material, __global const int *restrict flags, GRID_ARGS,
-            __constant const struct sph_material *materials,
-            __constant const struct sph_run_params *run, __global vec *restrict acceleration,
-            __global real *restrict energy_rate, __global vec *restrict xsph_velocity, const int n)
+            __global const real *restrict sound_speed, __global const int *restrict flags,
+            GRID_ARGS, __constant const struct sph_run_params *run,
+            __global vec *restrict acceleration, __global real *restrict energy_rate,
+            __global vec *restrict xsph_velocity, const int n)
 {
     struct lane_block b;
     if ((int)get_global_id(0) * SPH_LANES >= n ||
@@ -442,10 +442,7 @@ pass2_lanes(__global const vec *restrict pos, __global const vec *restrict pos0,
                 sigma_i[a][c] /= rho_i; /* sigma_i / rho_i */
         }
     }
-    lanes_union sound;
-    for (int l = 0; l < SPH_LANES; ++l)
-        sound.s[l] = b.first + l < n ? materials[material[b.first + l]].sound_speed : (real)0;
-    const realv c_i = sound.v;
+    const realv c_i = gather_real(sound_speed, &b, n);
 #ifdef SPH_ARTIFICIAL_STRESS
     realv r_i[3][3];
     gather_symt(artificial_stress, &b, n, r_i);
@@ -482,7 +479,7 @@ pass2_lanes(__global const vec *restrict pos, __global const vec *restrict pos0,
         /* Monaghan (1992) viscosity, approaching pairs only */
         const realv vr = vij[0] * xij[0] + vij[1] * xij[1] + vij[2] * xij[2];
         const realv mu = h * vr / (r2 + (real)0.01 * h * h);
-        const realv c_mean = (real)0.5 * (c_i + materials[material[j]].sound_speed);
+        const realv c_mean = (real)0.5 * (c_i + sound_speed[j]);
         const realv pi_ij =
             select((realv)0, (-run->av_alpha * c_mean * mu + run->av_beta * mu * mu) * inv_rho_mean,
                    vr < (real)0);

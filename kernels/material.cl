@@ -180,10 +180,11 @@ static inline bool particle_failed(__constant const struct sph_material *m, real
     __global real *restrict density_change, __global real *restrict energy,                        \
         __global symt *restrict deviatoric_stress, __global real *restrict plastic_strain,         \
         __global real *restrict temperature, __global const real *restrict energy_rate,            \
-        __global real *restrict pressure, __global symt *restrict artificial_stress
+        __global real *restrict pressure, __global real *restrict sound_speed,                     \
+        __global symt *restrict artificial_stress
 #define MATERIAL_STATE                                                                             \
     density_change, energy, deviatoric_stress, plastic_strain, temperature, energy_rate, pressure, \
-        artificial_stress
+        sound_speed, artificial_stress
 
 /* The material update of particle i (not a ghost) from its velocity
  * gradient l (1/s) and density rate (kg/m^3/s) over the step dt (s): called
@@ -249,11 +250,18 @@ material_update_particle(int i, real l[3][3], real density_rate_i, real dt,
      * where fragments fly apart (the explicit update crosses zero once
      * dt div v > 1) and agrees with it to first order otherwise */
     const real rho_old = m->density + density_change[i];
-    /* ... and not below rho0 / 100: a failed particle flung off the
-     * target (debris, alone or in a separating pair) keeps expanding in
-     * the continuity equation until its density underflows */
-    const real change = fmax(density_change[i] + rho_old * expm1(dt * density_rate_i / rho_old),
-                             (real)-0.99 * m->density);
+    /* ... and, once failed, not below rho0: material that carries no
+     * tension opens voids between its pieces instead of stretching, so the
+     * pieces keep the density of the unloaded material (the pressure
+     * cut-off's zero pressure). In the continuity equation a piece flung
+     * off the target (debris in a cavity) would otherwise keep expanding
+     * until its density underflows, and when it meets the cavity wall
+     * again the pair force, (sigma_i + sigma_j) / (rho_i rho_j), grows as
+     * 1 / rho_i (a 100x force at the former floor rho0 / 100 blew up the
+     * SEBS runs). Intact material keeps that floor against underflow. */
+    const real change_floor = was_failed ? (real)0 : (real)-0.99 * m->density;
+    const real change =
+        fmax(density_change[i] + rho_old * expm1(dt * density_rate_i / rho_old), change_floor);
     const real density = m->density + change;
     const real e_trial = energy[i] + dt * energy_rate[i];
     real p_trial = pressure_eos(m, change / m->density, e_trial);
@@ -264,6 +272,9 @@ material_update_particle(int i, real l[3][3], real density_rate_i, real dt,
     const real p = pressure_eos(m, change / m->density, e);
     density_change[i] = change;
     energy[i] = e;
+    /* the artificial viscosity and the time step follow the stiffening of
+     * compressed material (Monaghan 1992: c_i is particle i's own speed) */
+    sound_speed[i] = sound_speed_current(m, density, e);
 #ifdef SPH_PLASTICITY
     const bool failed = was_failed || particle_failed(m, plastic_strain[i]);
     if (failed) {

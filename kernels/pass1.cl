@@ -82,7 +82,7 @@ pass1_velocity_gradient(__global const vec *restrict pos, __global const vec *re
         const vec xij = xi - pos[j];
         const real r2 = dot(xij, xij);
         const real h = PAIR_H(i, j);
-        if (j != i && r2 < q2 * h * h) {
+        if (r2 > 0 && r2 < q2 * h * h) { /* excludes i, and a coincident pair (grad W = 0) */
             const real r = sqrt(r2);
             const real volume = plane_mass(mass[j], pos[j], run) / rho[j];
             const vec grad = (kernel_dwdr(r, h) / r) * xij; /* grad_i W_ij */

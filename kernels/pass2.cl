@@ -19,7 +19,7 @@
  * XSPH (Monaghan 1989): v^_i = v_i + eps sum_j m_j / rho_ij (v_j - v_i) W_ij.
  *
  * reads: pos, vel, rho, mass, pressure, deviatoric_stress,
- *        artificial_stress, csph, material;
+ *        artificial_stress, csph, sound_speed;
  * writes: acceleration, energy_rate, xsph_velocity.
  */
 
@@ -99,10 +99,9 @@ __kernel void pass2_momentum_energy(
     __global const real *restrict mass, __global const real *restrict pressure,
     __global const symt *restrict deviatoric_stress,
     __global const symt *restrict artificial_stress, __global const symt *restrict csph,
-    __global const int *restrict material, __global const int *restrict flags, GRID_ARGS,
-    __constant const struct sph_material *materials, __constant const struct sph_run_params *run,
-    __global vec *restrict acceleration, __global real *restrict energy_rate,
-    __global vec *restrict xsph_velocity, const int n)
+    __global const real *restrict sound_speed, __global const int *restrict flags, GRID_ARGS,
+    __constant const struct sph_run_params *run, __global vec *restrict acceleration,
+    __global real *restrict energy_rate, __global vec *restrict xsph_velocity, const int n)
 {
     const int i = get_global_id(0);
     if (i >= n || (flags[i] & SPH_FLAG_GHOST))
@@ -110,7 +109,7 @@ __kernel void pass2_momentum_energy(
     const real q2 = (run->support / run->h) * (run->support / run->h); /* (support / h)^2 */
     const vec xi = pos[i], vi = vel[i];
     const real rho_i = rho[i];
-    const real c_i = materials[material[i]].sound_speed;
+    const real c_i = sound_speed[i];
     real sigma_i[3][3]; /* sigma_i / rho_i */
     total_stress(pressure[i], deviatoric_stress[i], sigma_i);
 #pragma unroll
@@ -138,7 +137,7 @@ __kernel void pass2_momentum_energy(
         const vec xij = xi - pos[j];
         const real r2 = dot(xij, xij);
         const real h = PAIR_H(i, j);
-        if (j != i && r2 < q2 * h * h) {
+        if (r2 > 0 && r2 < q2 * h * h) { /* excludes i, and a coincident pair (grad W = 0) */
             const real r = sqrt(r2);
             const vec vij = vi - vel[j];
             /* axisymmetric: sigma_i weighed by m_j / r_j, sigma_j by m_j / r_i,
@@ -151,9 +150,9 @@ __kernel void pass2_momentum_energy(
             const real m_j_at_i = m_j;
 #endif
             const real rho_mean = (real)0.5 * (rho_i + rho_j);
-            const real pi_ij = artificial_viscosity(
-                vij, xij, r2, h, (real)0.5 * (c_i + materials[material[j]].sound_speed), rho_mean,
-                run->av_alpha, run->av_beta);
+            const real pi_ij =
+                artificial_viscosity(vij, xij, r2, h, (real)0.5 * (c_i + sound_speed[j]), rho_mean,
+                                     run->av_alpha, run->av_beta);
             const real dwdr_r = kernel_dwdr(r, h) / r;
             real grad[3] = {0, 0, 0}, g_i[3], g_j[3];
 #pragma unroll

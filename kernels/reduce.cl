@@ -5,8 +5,8 @@
  *
  * Velocities are the half-step ones the positions moved with, so the load
  * power times dt is the exact work of the step's load.
- * reads: pos, displacement, vel_half, xsph_velocity, mass, energy, rho, flags,
- * material, id, wall_force; writes: partials.
+ * reads: pos, displacement, vel_half, xsph_velocity, mass, energy, rho,
+ * sound_speed, flags, id, wall_force; writes: partials.
  */
 static inline bool slot_is_max(int slot)
 {
@@ -17,12 +17,10 @@ __kernel __attribute__((reqd_work_group_size(REDUCE_WG, 1, 1))) void
 reduce_step(__global const vec *restrict pos, __global const vec *restrict displacement,
             __global const vec *restrict vel_half, __global const vec *restrict xsph_velocity,
             __global const real *restrict mass, __global const real *restrict energy,
-            __global const real *restrict rho, __global const int *restrict flags,
-            __global const int *restrict material, __global const int *restrict id,
-            __global const vec *restrict wall_force,
-            __constant const struct sph_material *materials,
-            __constant const struct sph_run_params *run, const real4 load_force,
-            __global real *restrict partials, const int n)
+            __global const real *restrict rho, __global const real *restrict sound_speed,
+            __global const int *restrict flags, __global const int *restrict id,
+            __global const vec *restrict wall_force, __constant const struct sph_run_params *run,
+            const real4 load_force, __global real *restrict partials, const int n)
 {
     __local real acc[REDUCE_WG][SPH_RED_SLOTS];
     const int lid = get_local_id(0);
@@ -37,9 +35,7 @@ reduce_step(__global const vec *restrict pos, __global const vec *restrict displ
             continue;
         const vec v = vel_half[i], x = pos[i];
         const real speed = length(v);
-        mine[SPH_RED_MAX_SIGNAL] =
-            fmax(mine[SPH_RED_MAX_SIGNAL],
-                 sound_speed_current(&materials[material[i]], rho[i], energy[i]) + speed);
+        mine[SPH_RED_MAX_SIGNAL] = fmax(mine[SPH_RED_MAX_SIGNAL], sound_speed[i] + speed);
         mine[SPH_RED_MAX_SPEED] = fmax(mine[SPH_RED_MAX_SPEED], speed);
         mine[SPH_RED_MAX_DRIFT] = fmax(mine[SPH_RED_MAX_DRIFT], length(v + xsph_velocity[i]));
         const bool bad = isnan(speed) || isinf(speed) || !(speed <= run->velocity_limit) ||

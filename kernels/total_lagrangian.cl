@@ -218,12 +218,13 @@ static inline vec tl_hourglass(vec xji, vec big_xji, real r0, real w0, real f_me
 /* Pass 2 of the total Lagrangian form: stress force, artificial viscosity
  * (on the current pair geometry, as in the updated form), hourglass control,
  * XSPH. reads: pos, pos0, vel, rho, mass, first_piola, deformation_gradient,
- * material; writes: acceleration, energy_rate, xsph_velocity. */
+ * sound_speed, material; writes: acceleration, energy_rate, xsph_velocity. */
 __kernel void tl_momentum(__global const vec *restrict pos, __global const vec *restrict pos0,
                           __global const vec *restrict vel, __global const real *restrict rho,
                           __global const real *restrict mass,
                           __global const fullt *restrict first_piola,
                           __global const fullt *restrict deformation_gradient,
+                          __global const real *restrict sound_speed,
                           __global const int *restrict material, __global const int *restrict flags,
                           GRID_ARGS, __constant const struct sph_material *materials,
                           __constant const struct sph_run_params *run,
@@ -274,7 +275,7 @@ __kernel void tl_momentum(__global const vec *restrict pos, __global const vec *
                 const real r = sqrt(r2);
                 const real rho_mean = (real)0.5 * (rho[i] + rho[j]);
                 const real pi_ij = artificial_viscosity(
-                    vij, xij, r2, h, (real)0.5 * (mi->sound_speed + mj->sound_speed), rho_mean,
+                    vij, xij, r2, h, (real)0.5 * (sound_speed[i] + sound_speed[j]), rho_mean,
                     run->av_alpha, run->av_beta);
                 const vec visc = (-mass[j] * pi_ij * kernel_dwdr(r, h) / r) * xij;
                 acc_extra += visc;
