@@ -251,8 +251,15 @@ static inline void matrix_product(real a[3][3], real b[3][3], real out[3][3])
 }
 
 /* Inverse of a dim x dim matrix whose determinant is near 1 (a CSPH moment
- * matrix, a deformation gradient); falls back to the identity when it is
- * nearly singular (isolated particles, a line of particles). */
+ * matrix, a deformation gradient); falls back to the identity when the
+ * determinant is below half a right-angled corner's. A moment matrix
+ * B = sum_j V_j x_ji (x) grad W is I inside the body, I / 2 at a flat free
+ * surface and I / 4 (2-D) or I / 8 (3-D) at a corner, det 1/16 or 1/512;
+ * a smaller one is a neighbourhood that does not determine a gradient
+ * (spray and debris with a few neighbours, a line of particles), and its
+ * inverse would multiply that neighbourhood's velocity differences by up to
+ * 1 / det: a 1e-3 threshold let a debris particle at a cavity's lip be
+ * compressed 50% in three steps (gelatin, d/dx = 8). */
 static inline void matrix_invert_or_identity(real b[3][3], real c[3][3])
 {
 #pragma unroll
@@ -262,7 +269,7 @@ static inline void matrix_invert_or_identity(real b[3][3], real c[3][3])
             c[a][e] = a == e ? (real)1 : (real)0;
 #if SPH_DIM == 2
     const real det = b[0][0] * b[1][1] - b[0][1] * b[1][0];
-    if (fabs(det) < (real)1e-3)
+    if (fabs(det) < (real)(1.0 / 32.0))
         return;
     c[0][0] = b[1][1] / det;
     c[0][1] = -b[0][1] / det;
@@ -272,7 +279,7 @@ static inline void matrix_invert_or_identity(real b[3][3], real c[3][3])
     const real det = b[0][0] * (b[1][1] * b[2][2] - b[1][2] * b[2][1]) -
                      b[0][1] * (b[1][0] * b[2][2] - b[1][2] * b[2][0]) +
                      b[0][2] * (b[1][0] * b[2][1] - b[1][1] * b[2][0]);
-    if (fabs(det) < (real)1e-4)
+    if (fabs(det) < (real)(1.0 / 1024.0))
         return;
     const real inv = (real)1 / det;
     c[0][0] = (b[1][1] * b[2][2] - b[1][2] * b[2][1]) * inv;
