@@ -95,6 +95,8 @@ int solver_field_used(const struct solver *s, enum field f)
         return s->total_lagrangian;
     case FIELD_ARTIFICIAL_STRESS:
         return s->artificial_stress;
+    case FIELD_WALL_FORCE: /* written by the kick and read by the reduction only with walls */
+        return s->wall_count > 0;
     default:
         return 1;
     }

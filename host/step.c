@@ -146,6 +146,7 @@ int solver_create(struct solver *s, struct sph_device *dev, const struct sph_cas
     s->lanes = solver_lanes(c);
     s->csph = c->numerics.csph;
     s->artificial_stress = c->numerics.as_epsilon > 0;
+    s->wall_count = c->wall_count; /* wall_force exists only with walls */
     s->graded = solver_case_graded(c);
     s->dx = c->numerics.dx;
     s->reduce_groups = 64;
@@ -542,8 +543,8 @@ void solver_reduce(struct solver *s, const double load[3], struct reduction *out
     SET_ARGS(s->k.reduce, MEM(f[FIELD_POS]), MEM(f[FIELD_DISPLACEMENT]), MEM(f[FIELD_VEL_HALF]),
              MEM(f[FIELD_XSPH_VELOCITY]), MEM(f[FIELD_MASS]), MEM(f[FIELD_ENERGY]),
              MEM(f[FIELD_RHO]), MEM(f[FIELD_SOUND_SPEED]), MEM(f[FIELD_FLAGS]), MEM(f[FIELD_ID]),
-             MEM(f[FIELD_WALL_FORCE]), MEM(s->run_params), real4_value(s, &a_load, load),
-             MEM(s->partials), INT(s->n));
+             MEM(f[FIELD_WALL_FORCE]), INT(s->wall_count), MEM(s->run_params),
+             real4_value(s, &a_load, load), MEM(s->partials), INT(s->n));
     launch(s, s->k.reduce, (size_t)s->reduce_groups * REDUCE_GROUP_SIZE, REDUCE_GROUP_SIZE);
     double values[64 * SPH_RED_SLOTS];
     read_partials(s, (size_t)s->reduce_groups * SPH_RED_SLOTS, values);

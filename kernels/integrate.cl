@@ -67,7 +67,8 @@ __kernel void integrate_kick(__global vec *restrict vel, __global vec *restrict 
     if (i >= n)
         return;
     const int flag = flags[i];
-    wall_force[i] = VEC_ZERO;
+    if (wall_count > 0) /* wall_force is allocated only then */
+        wall_force[i] = VEC_ZERO;
     if (flag & SPH_FLAG_GHOST)
         return;
     if (flag & SPH_FLAG_FIXED) {

@@ -6,7 +6,7 @@
  * Velocities are the half-step ones the positions moved with, so the load
  * power times dt is the exact work of the step's load.
  * reads: pos, displacement, vel_half, xsph_velocity, mass, energy, rho,
- * sound_speed, flags, id, wall_force; writes: partials.
+ * sound_speed, flags, id, wall_force (with walls); writes: partials.
  */
 static inline bool slot_is_max(int slot)
 {
@@ -19,8 +19,9 @@ reduce_step(__global const vec *restrict pos, __global const vec *restrict displ
             __global const real *restrict mass, __global const real *restrict energy,
             __global const real *restrict rho, __global const real *restrict sound_speed,
             __global const int *restrict flags, __global const int *restrict id,
-            __global const vec *restrict wall_force, __constant const struct sph_run_params *run,
-            const real4 load_force, __global real *restrict partials, const int n)
+            __global const vec *restrict wall_force, const int wall_count,
+            __constant const struct sph_run_params *run, const real4 load_force,
+            __global real *restrict partials, const int n)
 {
     __local real acc[REDUCE_WG][SPH_RED_SLOTS];
     const int lid = get_local_id(0);
@@ -55,13 +56,15 @@ reduce_step(__global const vec *restrict pos, __global const vec *restrict displ
 #endif
             mine[SPH_RED_PROBE_COUNT] += 1;
         }
-        const vec fw = wall_force[i];
-        mine[SPH_RED_WALL_POWER] += dot(fw, v + xsph_velocity[i]); /* as the drift moves it */
-        mine[SPH_RED_WALL_FORCE_X] += fw.x;
-        mine[SPH_RED_WALL_FORCE_Y] += fw.y;
+        if (wall_count > 0) { /* wall_force is allocated only then */
+            const vec fw = wall_force[i];
+            mine[SPH_RED_WALL_POWER] += dot(fw, v + xsph_velocity[i]); /* as the drift moves it */
+            mine[SPH_RED_WALL_FORCE_X] += fw.x;
+            mine[SPH_RED_WALL_FORCE_Y] += fw.y;
 #if SPH_DIM == 3
-        mine[SPH_RED_WALL_FORCE_Z] += fw.z;
+            mine[SPH_RED_WALL_FORCE_Z] += fw.z;
 #endif
+        }
         mine[SPH_RED_MOMENTUM_X] += mass[i] * v.x;
         mine[SPH_RED_MOMENTUM_Y] += mass[i] * v.y;
 #if SPH_DIM == 3
