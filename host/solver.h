@@ -212,7 +212,8 @@ void solver_memory_breakdown(const struct solver *s, struct solver_memory *out);
  * with `error` when the particles spread over more cells than the device can
  * hold (a particle left the domain). */
 int solver_sort(struct solver *s, char *error, size_t error_size);
-/* Pressure and artificial stress of the initial state (before step 1). */
+/* Pressure, sound speed and artificial stress of the initial state (before
+ * step 1 and its time step). */
 void solver_prime(struct solver *s);
 /* One leap-frog step (see kernels/integrate.cl): pass 2, kick, pass 1,
  * material update, drift. `load` is the force per loaded particle at t^n. */

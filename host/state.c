@@ -381,19 +381,17 @@ int solver_create_buffers(struct solver *s, const struct sph_case *c, const stru
         ids[p] = p;
     upload_ints(s, s->field[FIELD_ID], ids, s->n_real);
     free(ids);
-    /* the room temperature, and the unloaded state's wave speed until the
-     * first material update */
-    double *per_particle = malloc(sizeof(double) * (size_t)s->n_real);
+    double *temperature = malloc(sizeof(double) * (size_t)s->n_real);
     for (int p = 0; p < s->n_real; ++p)
-        per_particle[p] = c->materials[scene->material[p]].room_temperature;
-    upload_reals(s, s->field[FIELD_TEMPERATURE], per_particle, (size_t)s->n_real);
-    for (int p = 0; p < s->n_real; ++p)
-        per_particle[p] = material_entry(&c->materials[scene->material[p]]).sound_speed;
-    upload_reals(s, s->field[FIELD_SOUND_SPEED], per_particle, (size_t)s->n_real);
-    free(per_particle);
+        temperature[p] = c->materials[scene->material[p]].room_temperature;
+    upload_reals(s, s->field[FIELD_TEMPERATURE], temperature, (size_t)s->n_real);
+    free(temperature);
+    /* the pressure, sound speed and artificial stress of the initial state
+     * are written by solver_prime's material update, before anything reads
+     * them */
     static const enum field uploaded[] = {
-        FIELD_POS,      FIELD_POS0,  FIELD_VEL,         FIELD_VEL_HALF,    FIELD_RHO, FIELD_MASS,
-        FIELD_MATERIAL, FIELD_FLAGS, FIELD_TEMPERATURE, FIELD_SOUND_SPEED, FIELD_ID};
+        FIELD_POS,  FIELD_POS0,     FIELD_VEL,   FIELD_VEL_HALF,    FIELD_RHO,
+        FIELD_MASS, FIELD_MATERIAL, FIELD_FLAGS, FIELD_TEMPERATURE, FIELD_ID};
     for (int f = 0; f < FIELD_COUNT; ++f) {
         int is_uploaded = 0;
         for (size_t k = 0; k < sizeof uploaded / sizeof uploaded[0]; ++k)

@@ -75,8 +75,8 @@ static inline real pressure_eos(SPH_CONSTANT struct sph_material *m, real mu, re
  * c^2 = (dp/drho at fixed e) + 4 G / (3 rho0), the slope by a central
  * difference over mu +- 1e-3; never below the reference speed at rho0. A
  * compressed Mie-Gruneisen or polynomial solid stiffens (at mu = 3 the
- * polynomial gelatin's c is five times c0), and the time step must follow
- * (kernels/reduce.cl). */
+ * polynomial gelatin's c is five times c0), and the time step and the
+ * artificial viscosity follow it (stored per particle by material.cl). */
 static inline real sound_speed_current(SPH_CONSTANT struct sph_material *m, real rho, real e)
 {
     const real mu = rho / m->density - (real)1, step = (real)1e-3;

@@ -13,7 +13,7 @@ points with x^2 + y^2 <= R^2: 56 neighbours inside the bar at a support of
 
 How each is timed (steady stepping only, no set-up, no start-up output):
   impact-sph  a one-step run (PoCL compiles there), then two `sph run` of
-              W and W + N steps (end time = steps x dt,
+              W and W + N steps (end time = (steps - 1/2) x dt,
               dt = cfl h / (c + |v|) as the solver takes it; snapshots and
               history rows only at the start and end); per-step cost =
               (wall_B - wall_A) / (steps_B - steps_A) from summary.json's
@@ -226,10 +226,10 @@ def ours(args, dx, formulation, precision, work, snapshot):
 # -------------------------------------------------------------------- LAMMPS
 
 @functools.lru_cache(maxsize=None)  # `lmp -h` once per binary: lammps() wants its text again
-def lmp_has_machdyn(lmp, env=None):
+def lmp_has_machdyn(lmp):
     try:
         p = subprocess.run([lmp, "-h"], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                           text=True, timeout=120, env=env)
+                           text=True, timeout=120)
     except (OSError, subprocess.TimeoutExpired):
         return False, ""
     text = p.stdout
@@ -357,7 +357,7 @@ def lammps(args, dx, steps, work, threads, found):
     text = LAMMPS_INPUT.format(
         dx=dx, ox=frac(x0), oz=frac(z0), bx0=-2 * RADIUS, bx1=2 * RADIUS, bz1=LENGTH + 4 * dx,
         R=RADIUS, z0=z0 - 0.25 * dx, z1=z0 + (nz - 1) * dx + 0.25 * dx, vol=dx ** 3,
-        rho=DENSITY, support=2.4 * dx, vz=-SPEED, skin=1.2 * dx, E=YOUNG, nu=POISSON,
+        rho=DENSITY, support=2 * H_OVER_DX * dx, vz=-SPEED, skin=H_OVER_DX * dx, E=YOUNG, nu=POISSON,
         q1=1.5, q2=0.0, hg=10.0, cp=HEAT_CAPACITY, A=JC["A"], B=JC["B"], n=JC["n"],
         C=JC["C"], rate0=JC["rate0"], Troom=JC["T_room"], Tmelt=JC["T_melt"], m=JC["m"],
         cfl=0.1, thermo=max(1, steps // 5), warmup=args.warmup, steps=steps, zwall=z0)
