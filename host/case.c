@@ -112,6 +112,7 @@ static const char *const precision_names[] = {"float", "double", NULL};
 static const char *const as_weight_names[] = {"relative", "lattice", NULL};
 static const char *const neighbour_loop_names[] = {"lanes", "plain", NULL};
 static const char *const formulation_names[] = {"updated_lagrangian", "total_lagrangian", NULL};
+static const char *const av_scheme_names[] = {"monaghan", "limited", NULL};
 static const char *const ref_nouns[] = {"material", "body", "group"};
 
 /* ---- errors ------------------------------------------------------------ */
@@ -1126,6 +1127,7 @@ static const struct schema symmetry_schema =
 static const struct field viscosity_fields[] = {
     NUMBER("alpha", struct case_numerics, av_alpha, 0, R_NONNEG, 0, 0, 0.1, NULL),
     NUMBER("beta", struct case_numerics, av_beta, 0, R_NONNEG, 0, 0, 0.1, NULL),
+    ENUM("scheme", struct case_numerics, av_limited, 0, 0, av_scheme_names, NULL),
 };
 static const struct schema viscosity_schema = SCHEMA(viscosity_fields, struct case_numerics, NULL);
 

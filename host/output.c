@@ -62,7 +62,7 @@ int output_open(struct output *o, const char *folder, const struct sph_case *c, 
             "total_energy_J,momentum_x_kg_m_s,momentum_y_kg_m_s,momentum_z_kg_m_s,max_speed_m_s,"
             "wall_force_x_N,wall_force_y_N,wall_force_z_N,wall_work_J,min_pair_distance_over_dx,"
             "clumped_fraction,swegle_fraction,neighbours_min,neighbours_mean,neighbours_max,"
-            "energy_error\n",
+            "energy_error,artificial_viscosity_work_J,hourglass_work_J\n",
             o->probe_name);
     o->snapshot_times = malloc(sizeof(double) * SPH_MAX_SNAPSHOTS);
     return o->snapshot_times ? 0 : 1;
@@ -73,12 +73,14 @@ void output_history(struct output *o, const struct history_row *r)
     fprintf(o->history,
             "%.9e,%ld,%.6e,%.9e,%.9e,%.9e,%.9e,%.9e,%.6e,%.6e,%.6e,%.6e,%.6e,%.6e,%.6e,%.9e,",
             r->time, r->step, r->dt, r->probe, r->kinetic, r->internal, r->external_work,
-            r->kinetic + r->internal - r->external_work - r->wall_work + r->projectile_energy,
+            r->kinetic + r->internal - r->external_work - r->wall_work + r->hourglass_work +
+                r->projectile_energy,
             r->momentum[0], r->momentum[1], r->momentum[2], r->max_speed, r->wall_force[0],
             r->wall_force[1], r->wall_force[2], r->wall_work);
-    fprintf(o->history, "%.6e,%.6e,%.6e,%.0f,%.3f,%.0f,%.6e\n", r->health.min_pair_distance / r->dx,
-            r->health.clumped_fraction, r->health.swegle_fraction, r->health.neighbours_min,
-            r->health.neighbours_mean, r->health.neighbours_max, r->energy_error);
+    fprintf(o->history, "%.6e,%.6e,%.6e,%.0f,%.3f,%.0f,%.6e,%.9e,%.9e\n",
+            r->health.min_pair_distance / r->dx, r->health.clumped_fraction,
+            r->health.swegle_fraction, r->health.neighbours_min, r->health.neighbours_mean,
+            r->health.neighbours_max, r->energy_error, r->viscous_work, r->hourglass_work);
 }
 
 int output_ballistics_open(struct output *o, const struct projectile *p, char *error,
@@ -281,6 +283,12 @@ int output_summary(struct output *o, const struct run_summary *s)
     json_number(f, "steps_per_s", s->steps_per_s, 0);
     json_number(f, "energy_drift", s->energy_drift, 0);
     json_number(f, "max_neighbour_loss_fraction", s->max_neighbour_loss_fraction, 0);
+    json_number(f, "artificial_viscosity_work_J", s->viscous_work_J, 0);
+    json_number(f, "artificial_viscosity_work_fraction", s->viscous_work_fraction, 0);
+    if (s->has_hourglass) {
+        json_number(f, "hourglass_work_J", s->hourglass_work_J, 0);
+        json_number(f, "hourglass_work_fraction", s->hourglass_work_fraction, 0);
+    }
     if (s->has_probe) {
         char key[SPH_NAME_MAX + 16];
         snprintf(key, sizeof key, "%s_final_m", s->probe_name);

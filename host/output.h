@@ -43,6 +43,8 @@ struct history_row {
     double energy_error;      /* (E - E0) / energy scale */
     double wall_force[3];     /* on the walls, mean since the previous row, N */
     double wall_work;         /* work of the wall forces on the particles so far, J */
+    double viscous_work;      /* heat made by the artificial viscosity so far, J */
+    double hourglass_work;    /* work the hourglass forces took out of the motion so far, J */
     double projectile_energy; /* projectile kinetic + contact spring energy + damper work, J */
 };
 
@@ -62,9 +64,13 @@ struct run_summary {
                             kinetic + internal) */
     double max_neighbour_loss_fraction; /* particles that lost over a third of their initial
                                            neighbours, largest over the snapshots */
-    int has_wall;                       /* impact figures against walls[0] */
-    double final_length_m;              /* extent along the wall normal + dx/2 */
-    double footprint_radius_m;          /* largest distance from the axis in the first layer */
+    double viscous_work_J, viscous_work_fraction; /* artificial viscosity's heat, and over the
+                                                     initial kinetic (or largest) energy */
+    int has_hourglass;                            /* total Lagrangian: hourglass work reported */
+    double hourglass_work_J, hourglass_work_fraction;
+    int has_wall;              /* impact figures against walls[0] */
+    double final_length_m;     /* extent along the wall normal + dx/2 */
+    double footprint_radius_m; /* largest distance from the axis in the first layer */
     int has_plasticity;
     double max_plastic_strain, max_temperature_K;
     /* health indicators over the history rows */

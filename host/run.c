@@ -46,6 +46,9 @@ struct loop {
     char *damaged; /* per particle (by id), from the last snapshot */
     double max_neighbour_loss;
     double wall_work, wall_impulse[3], impulse_since_row_time; /* J, N s, s */
+    double viscous_work;   /* J: heat made by the artificial viscosity (in the internal energy) */
+    double hourglass_work; /* J: work the hourglass forces took out of the motion */
+    double kinetic_start;  /* J: kinetic energy of particles and projectile at t = 0 */
     double final_length, footprint_radius, max_plastic_strain, max_temperature;
     double min_pair_distance, max_clumped, max_swegle;
     double first_unhealthy_time; /* s; < 0 while healthy */
@@ -179,6 +182,8 @@ static int write_history(struct loop *L)
                               .max_speed = L->red.max_speed};
     memcpy(row.momentum, L->red.momentum, sizeof row.momentum);
     row.wall_work = L->wall_work;
+    row.viscous_work = L->viscous_work;
+    row.hourglass_work = L->hourglass_work;
     row.projectile_energy = L->ballistics.energy;
     for (int a = 0; a < 3; ++a) /* the reaction on the walls */
         row.wall_force[a] =
@@ -328,7 +333,7 @@ static int check_health(struct loop *L)
 
 static double total_energy(const struct loop *L)
 {
-    return L->red.kinetic + L->red.internal - L->external_work - L->wall_work +
+    return L->red.kinetic + L->red.internal - L->external_work - L->wall_work + L->hourglass_work +
            L->ballistics.energy;
 }
 
@@ -351,8 +356,10 @@ static int one_step(struct loop *L)
     L->t += L->dt;
     L->dt_prev = L->dt;
     ++L->step;
-    L->external_work += L->red.load_power * L->dt; /* F(t^n) . v^(n+1/2) dt */
-    L->wall_work += L->red.wall_power * L->dt;     /* f(x^n) . v^(n+1/2) dt, as the load */
+    L->external_work += L->red.load_power * L->dt;   /* F(t^n) . v^(n+1/2) dt */
+    L->wall_work += L->red.wall_power * L->dt;       /* f(x^n) . v^(n+1/2) dt, as the load */
+    L->viscous_work += L->red.viscous_power * L->dt; /* the heating pass 2 gave the step */
+    L->hourglass_work += L->red.hourglass_power * L->dt;
     for (int a = 0; a < 3; ++a)
         L->wall_impulse[a] += L->red.wall_force[a] * L->dt;
     L->impulse_since_row_time += L->dt;
@@ -391,6 +398,14 @@ static void finish_summary(struct loop *L, struct run_summary *sum)
     sum->reference_e_av = L->window_steps ? L->window_error_sum / L->window_steps : NAN;
     sum->energy_drift = L->energy_scale > 0 ? L->energy_excursion / L->energy_scale : 0;
     sum->max_neighbour_loss_fraction = L->max_neighbour_loss;
+    /* over the initial kinetic energy, or the largest energy of a run that
+     * starts at rest */
+    const double work_scale = L->kinetic_start > 0 ? L->kinetic_start : L->energy_scale;
+    sum->viscous_work_J = L->viscous_work;
+    sum->hourglass_work_J = L->hourglass_work;
+    sum->viscous_work_fraction = work_scale > 0 ? L->viscous_work / work_scale : 0;
+    sum->hourglass_work_fraction = work_scale > 0 ? L->hourglass_work / work_scale : 0;
+    sum->has_hourglass = L->s->total_lagrangian;
     sum->has_wall = L->c->wall_count > 0;
     sum->final_length_m = L->final_length;
     sum->footprint_radius_m = L->footprint_radius;
@@ -554,6 +569,7 @@ static int start(struct loop *L, char *error, size_t size)
     track_probe(L);
     write_history(L);
     L->energy_start = total_energy(L); /* now with the projectile's energy read */
+    L->kinetic_start = L->red.kinetic + L->ballistics.energy;
     L->energy_excursion = 0;
     L->next_history = L->c->output.history_interval;
     L->next_snapshot = L->c->output.snapshot_interval;

@@ -52,11 +52,13 @@ enum field {
     FIELD_CSPH,
     FIELD_DEFORMATION_GRADIENT, /* total Lagrangian only */
     FIELD_FIRST_PIOLA,          /* total Lagrangian only: P C^T */
+    FIELD_VELOCITY_GRADIENT,    /* total Lagrangian, or the limited viscosity (pass 1 -> pass 2) */
     FIELD_PERSISTENT_END,
-    FIELD_VELOCITY_GRADIENT = FIELD_PERSISTENT_END,
-    FIELD_DENSITY_RATE,
+    FIELD_DENSITY_RATE = FIELD_PERSISTENT_END,
     FIELD_ACCELERATION,
     FIELD_ENERGY_RATE,
+    FIELD_VISCOUS_HEATING, /* W/kg: the artificial viscosity's part of energy_rate */
+    FIELD_HOURGLASS_POWER, /* W/kg: total Lagrangian hourglass work rate (not heat) */
     FIELD_XSPH_VELOCITY,
     FIELD_WALL_FORCE,
     FIELD_COUNT
@@ -142,6 +144,8 @@ struct reduction {
     double
         wall_force[3]; /* on the particles from the walls, N (per m of thickness in 2-D: scaled) */
     double wall_power; /* wall forces . velocities, W */
+    double viscous_power;   /* heating by the artificial viscosity (in `internal`), W */
+    double hourglass_power; /* work rate the hourglass forces take out of the motion, W */
 };
 
 struct solver {
@@ -154,6 +158,7 @@ struct solver {
     int graded;                  /* some body has a graded lattice (SPH_GRADED) */
     int lanes;                   /* particles per work-item of passes 1 and 2 (solver_lanes) */
     int csph, artificial_stress; /* the corrections in use: their fields exist */
+    int av_limited;              /* the limited artificial viscosity (pass 2 reads L_j) */
     double dx;                   /* lattice spacing, m */
     size_t element_size[ELEM_COUNT];
     cl_mem field[FIELD_COUNT];

@@ -22,7 +22,7 @@ const struct field_info field_table[FIELD_COUNT] = {
     [FIELD_FLAGS] = {"flags", ELEM_INT, MIRROR_FLAGS},
     [FIELD_MATERIAL] = {"material", ELEM_INT, MIRROR_COPY},
     [FIELD_ID] = {"id", ELEM_INT, MIRROR_NONE},
-    [FIELD_VELOCITY_GRADIENT] = {"velocity_gradient", ELEM_FULLT, MIRROR_NONE},
+    [FIELD_VELOCITY_GRADIENT] = {"velocity_gradient", ELEM_FULLT, MIRROR_REFLECT},
     [FIELD_DENSITY_RATE] = {"density_rate", ELEM_REAL, MIRROR_NONE},
     [FIELD_CSPH] = {"csph_correction", ELEM_SYMT, MIRROR_REFLECT}, /* symmetric: pass1.cl */
     [FIELD_DEFORMATION_GRADIENT] = {"deformation_gradient", ELEM_FULLT, MIRROR_REFLECT},
@@ -32,6 +32,8 @@ const struct field_info field_table[FIELD_COUNT] = {
     [FIELD_ARTIFICIAL_STRESS] = {"artificial_stress", ELEM_SYMT, MIRROR_REFLECT},
     [FIELD_ACCELERATION] = {"acceleration", ELEM_VEC, MIRROR_NONE},
     [FIELD_ENERGY_RATE] = {"energy_rate", ELEM_REAL, MIRROR_NONE},
+    [FIELD_VISCOUS_HEATING] = {"artificial_viscosity_heating", ELEM_REAL, MIRROR_NONE},
+    [FIELD_HOURGLASS_POWER] = {"hourglass_power", ELEM_REAL, MIRROR_NONE},
     [FIELD_XSPH_VELOCITY] = {"xsph_velocity", ELEM_VEC, MIRROR_REFLECT},
     [FIELD_WALL_FORCE] = {"wall_force", ELEM_VEC, MIRROR_NONE},
 };
@@ -62,7 +64,7 @@ void solver_build_options(const struct sph_case *c, char *options, size_t size)
     /* -w: PoCL's compiler prints ABI notes (-Wpsabi) about float8/float16
      * arguments on every first build; the sources are kept free of real
      * warnings with clang -x cl -fsyntax-only -Wall (docs/ARCHITECTURE.md) */
-    snprintf(options, size, "-cl-std=CL1.2 -w -DSPH_DIM=%d -DSPH_KERNEL=%d%s%s%s%s%s%s%s%s",
+    snprintf(options, size, "-cl-std=CL1.2 -w -DSPH_DIM=%d -DSPH_KERNEL=%d%s%s%s%s%s%s%s%s%s",
              c->dimension, (int)num->kernel, solver_case_graded(c) ? " -DSPH_GRADED" : "",
              c->dimension == 2 && c->plane == SPH_PLANE_STRESS         ? " -DSPH_PLANE_STRESS"
              : c->dimension == 2 && c->plane == SPH_PLANE_AXISYMMETRIC ? " -DSPH_AXISYMMETRIC"
@@ -73,6 +75,7 @@ void solver_build_options(const struct sph_case *c, char *options, size_t size)
                                            : " -DSPH_ARTIFICIAL_STRESS")
                  : "",
              num->xsph_epsilon > 0 ? " -DSPH_XSPH" : "", plastic ? " -DSPH_PLASTICITY" : "",
+             num->av_limited && !num->total_lagrangian ? " -DSPH_AV_LIMITED" : "",
              num->double_precision ? " -DSPH_DOUBLE" : "",
              num->total_lagrangian ? " -DSPH_TOTAL_LAGRANGIAN" : "");
     const size_t used = strlen(options);
@@ -87,11 +90,13 @@ int solver_field_used(const struct solver *s, enum field f)
     switch (f) {
     case FIELD_DEFORMATION_GRADIENT:
     case FIELD_FIRST_PIOLA:
+    case FIELD_HOURGLASS_POWER:
         return s->total_lagrangian;
     case FIELD_CSPH: /* the total Lagrangian form keeps its correction there */
         return s->csph || s->total_lagrangian;
-    case FIELD_VELOCITY_GRADIENT: /* the updated form's pass 1 uses them at once */
-    case FIELD_DENSITY_RATE:
+    case FIELD_VELOCITY_GRADIENT: /* the limited viscosity's reconstruction reads it in pass 2 */
+        return s->total_lagrangian || s->av_limited;
+    case FIELD_DENSITY_RATE: /* the updated form's pass 1 uses it at once */
         return s->total_lagrangian;
     case FIELD_ARTIFICIAL_STRESS:
         return s->artificial_stress;
@@ -316,20 +321,21 @@ static void upload_walls(struct solver *s, const struct sph_case *c)
 
 static void upload_run_params(struct solver *s)
 {
-    const double v[12] = {
-        s->run.h,          s->run.support,        s->run.av_alpha,     s->run.av_beta,
-        s->run.as_epsilon, s->run.as_inv_w_dx,    s->run.xsph_epsilon, s->run.damping,
-        s->run.thickness,  s->run.velocity_limit, s->run.hourglass,    s->run.axis_radius};
+    const double v[13] = {s->run.h,           s->run.support,        s->run.av_alpha,
+                          s->run.av_beta,     s->run.av_eta_crit,    s->run.as_epsilon,
+                          s->run.as_inv_w_dx, s->run.xsph_epsilon,   s->run.damping,
+                          s->run.thickness,   s->run.velocity_limit, s->run.hourglass,
+                          s->run.axis_radius};
     if (!s->double_precision) {
         CL_CHECK(clEnqueueWriteBuffer(s->dev->queue, s->run_params, CL_TRUE, 0, sizeof s->run,
                                       &s->run, 0, NULL, NULL));
         return;
     }
     struct {
-        cl_double v[12];
+        cl_double v[13];
         cl_int as_exponent, material_count;
     } wide;
-    for (int k = 0; k < 12; ++k)
+    for (int k = 0; k < 13; ++k)
         wide.v[k] = v[k];
     wide.as_exponent = s->run.as_exponent;
     wide.material_count = s->run.material_count;

@@ -113,6 +113,7 @@ static void fill_run_params(struct solver *s, const struct sph_case *c)
     s->run.support = (real)(h * sph_support_q(num->kernel));
     s->run.av_alpha = (real)num->av_alpha;
     s->run.av_beta = (real)num->av_beta;
+    s->run.av_eta_crit = (real)(1.0 / num->h_over_dx);
     s->run.as_epsilon = (real)num->as_epsilon;
     s->run.as_inv_w_dx = (real)(1.0 / sph_kernel_w_host(num->kernel, c->dimension, num->dx, h));
     s->run.xsph_epsilon = (real)num->xsph_epsilon;
@@ -145,6 +146,7 @@ int solver_create(struct solver *s, struct sph_device *dev, const struct sph_cas
     s->total_lagrangian = c->numerics.total_lagrangian;
     s->lanes = solver_lanes(c);
     s->csph = c->numerics.csph;
+    s->av_limited = c->numerics.av_limited && !c->numerics.total_lagrangian;
     s->artificial_stress = c->numerics.as_epsilon > 0;
     s->wall_count = c->wall_count; /* wall_force exists only with walls */
     s->graded = solver_case_graded(c);
@@ -353,7 +355,8 @@ static void pass1(struct solver *s, double dt)
     SET_ARGS(s->k.pass1, MEM(f[FIELD_POS]), MEM(f[FIELD_VEL_HALF]), MEM(f[FIELD_RHO]),
              MEM(f[FIELD_MASS]), MEM(f[FIELD_MATERIAL]), MEM(f[FIELD_FLAGS]),
              GRID_ARG_LIST(s, dims), MEM(s->materials), MEM(s->run_params), MEM(f[FIELD_CSPH]),
-             real_value(s, &a_dt, dt), MATERIAL_STATE_LIST(f), INT(s->n));
+             MEM(f[FIELD_VELOCITY_GRADIENT]), real_value(s, &a_dt, dt), MATERIAL_STATE_LIST(f),
+             INT(s->n));
     launch(s, s->k.pass1, pass_items(s), 0);
 }
 
@@ -376,9 +379,9 @@ static void pass2(struct solver *s)
     SET_ARGS(s->k.pass2, MEM(f[FIELD_POS]), MEM(f[FIELD_POS0]), MEM(f[FIELD_VEL]),
              MEM(f[FIELD_RHO]), MEM(f[FIELD_MASS]), MEM(f[FIELD_PRESSURE]), MEM(f[FIELD_STRESS]),
              MEM(f[FIELD_ARTIFICIAL_STRESS]), MEM(f[FIELD_CSPH]), MEM(f[FIELD_SOUND_SPEED]),
-             MEM(f[FIELD_FLAGS]), GRID_ARG_LIST(s, dims), MEM(s->run_params),
-             MEM(f[FIELD_ACCELERATION]), MEM(f[FIELD_ENERGY_RATE]), MEM(f[FIELD_XSPH_VELOCITY]),
-             INT(s->n));
+             MEM(f[FIELD_VELOCITY_GRADIENT]), MEM(f[FIELD_FLAGS]), GRID_ARG_LIST(s, dims),
+             MEM(s->run_params), MEM(f[FIELD_ACCELERATION]), MEM(f[FIELD_ENERGY_RATE]),
+             MEM(f[FIELD_VISCOUS_HEATING]), MEM(f[FIELD_XSPH_VELOCITY]), INT(s->n));
     launch(s, s->k.pass2, pass_items(s), 0);
 }
 
@@ -424,8 +427,8 @@ static void tl_momentum(struct solver *s)
              MEM(f[FIELD_RHO]), MEM(f[FIELD_MASS]), MEM(f[FIELD_FIRST_PIOLA]),
              MEM(f[FIELD_DEFORMATION_GRADIENT]), MEM(f[FIELD_SOUND_SPEED]), MEM(f[FIELD_MATERIAL]),
              MEM(f[FIELD_FLAGS]), GRID_ARG_LIST(s, dims), MEM(s->materials), MEM(s->run_params),
-             MEM(f[FIELD_ACCELERATION]), MEM(f[FIELD_ENERGY_RATE]), MEM(f[FIELD_XSPH_VELOCITY]),
-             INT(s->n));
+             MEM(f[FIELD_ACCELERATION]), MEM(f[FIELD_ENERGY_RATE]), MEM(f[FIELD_VISCOUS_HEATING]),
+             MEM(f[FIELD_HOURGLASS_POWER]), MEM(f[FIELD_XSPH_VELOCITY]), INT(s->n));
     launch(s, s->k.tl_momentum, (size_t)s->n, 0);
 }
 
@@ -506,6 +509,8 @@ static void combine_partials(const struct solver *s, const double *v, struct red
             out->wall_force[a] += p[SPH_RED_WALL_FORCE_X + a];
         }
         out->wall_power += p[SPH_RED_WALL_POWER];
+        out->viscous_power += p[SPH_RED_VISCOUS_POWER];
+        out->hourglass_power += p[SPH_RED_HOURGLASS_POWER];
     }
     out->bad_id = bad < (double)s->n_real ? (long)bad : -1;
     for (int a = 0; a < 3; ++a)
@@ -515,6 +520,8 @@ static void combine_partials(const struct solver *s, const double *v, struct red
     out->kinetic *= s->thickness_scale;
     out->internal *= s->thickness_scale;
     out->wall_power *= s->thickness_scale;
+    out->viscous_power *= s->thickness_scale;
+    out->hourglass_power *= s->thickness_scale;
     for (int a = 0; a < 3; ++a) {
         out->momentum[a] *= s->thickness_scale;
         out->wall_force[a] *= s->thickness_scale;
@@ -543,8 +550,9 @@ void solver_reduce(struct solver *s, const double load[3], struct reduction *out
     SET_ARGS(s->k.reduce, MEM(f[FIELD_POS]), MEM(f[FIELD_DISPLACEMENT]), MEM(f[FIELD_VEL_HALF]),
              MEM(f[FIELD_XSPH_VELOCITY]), MEM(f[FIELD_MASS]), MEM(f[FIELD_ENERGY]),
              MEM(f[FIELD_RHO]), MEM(f[FIELD_SOUND_SPEED]), MEM(f[FIELD_FLAGS]), MEM(f[FIELD_ID]),
-             MEM(f[FIELD_WALL_FORCE]), INT(s->wall_count), MEM(s->run_params),
-             real4_value(s, &a_load, load), MEM(s->partials), INT(s->n));
+             MEM(f[FIELD_WALL_FORCE]), INT(s->wall_count), MEM(f[FIELD_VISCOUS_HEATING]),
+             MEM(f[FIELD_HOURGLASS_POWER]), MEM(s->run_params), real4_value(s, &a_load, load),
+             MEM(s->partials), INT(s->n));
     launch(s, s->k.reduce, (size_t)s->reduce_groups * REDUCE_GROUP_SIZE, REDUCE_GROUP_SIZE);
     double values[64 * SPH_RED_SLOTS];
     read_partials(s, (size_t)s->reduce_groups * SPH_RED_SLOTS, values);

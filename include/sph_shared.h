@@ -158,6 +158,8 @@ struct sph_run_params {
     real support;        /* kernel support radius kappa h, m */
     real av_alpha;       /* Monaghan artificial viscosity alpha */
     real av_beta;        /* Monaghan artificial viscosity beta */
+    real av_eta_crit;    /* limited viscosity: pair distance / h below which the
+                            reconstruction fades out, dx / h (kernels/common.cl) */
     real as_epsilon;     /* Monaghan-Gray artificial stress epsilon */
     real as_inv_w_dx;    /* 1 / W(dx, h): normalises f_ij = W(r)/W(dx) */
     real xsph_epsilon;   /* XSPH velocity smoothing factor */
@@ -191,8 +193,10 @@ enum sph_reduce_slot {
     SPH_RED_WALL_FORCE_X = 14, /* sum of the wall forces on the particles, N */
     SPH_RED_WALL_FORCE_Y = 15,
     SPH_RED_WALL_FORCE_Z = 16,
-    SPH_RED_WALL_POWER = 17, /* sum f_wall . v, W */
-    SPH_RED_SLOTS = 18
+    SPH_RED_WALL_POWER = 17,      /* sum f_wall . v, W */
+    SPH_RED_VISCOUS_POWER = 18,   /* sum m (artificial-viscosity heating), W */
+    SPH_RED_HOURGLASS_POWER = 19, /* sum m (hourglass power taken from the motion), W */
+    SPH_RED_SLOTS = 20
 };
 
 /* Slots of the health-indicator reduction (kernels/reduce.cl,

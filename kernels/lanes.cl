@@ -308,13 +308,15 @@ static inline void lane_positions(__global const vec *restrict pos, const struct
 }
 
 /* reads: pos, vel (half step), rho, mass, material, flags, energy_rate;
- * writes: csph; updates: the material state (as pass1_velocity_gradient). */
+ * writes: csph, velocity_gradient (SPH_AV_LIMITED); updates: the material
+ * state (as pass1_velocity_gradient). */
 __kernel void pass1_lanes(__global const vec *restrict pos, __global const vec *restrict vel,
                           __global const real *restrict rho, __global const real *restrict mass,
                           __global const int *restrict material, __global const int *restrict flags,
                           GRID_ARGS, __constant const struct sph_material *materials,
                           __constant const struct sph_run_params *run, __global symt *restrict csph,
-                          const real dt, MATERIAL_STATE_ARGS, const int n)
+                          __global fullt *restrict velocity_gradient, const real dt,
+                          MATERIAL_STATE_ARGS, const int n)
 {
     struct lane_block b;
     if ((int)get_global_id(0) * SPH_LANES >= n ||
@@ -367,8 +369,8 @@ __kernel void pass1_lanes(__global const vec *restrict pos, __global const vec *
                 gv[a][c] = lane_of(grad_v[a][c], l);
                 m[a][c] = lane_of(moment[a][c], l);
             }
-        pass1_finish(i, gv, m, rho, material, flags, materials, run, csph, dt, pos, vel,
-                     MATERIAL_STATE);
+        pass1_finish(i, gv, m, rho, material, flags, materials, run, csph, velocity_gradient, dt,
+                     pos, vel, MATERIAL_STATE);
     }
 }
 
@@ -393,6 +395,64 @@ static inline void gather_symt(__global const symt *restrict f, const struct lan
             out[a][c] = u[a][c].v;
 }
 
+#ifdef SPH_AV_LIMITED
+/* A full 3 x 3 tensor per lane (the velocity gradient). */
+static inline void gather_fullt(__global const fullt *restrict f, const struct lane_block *b, int n,
+                                realv out[3][3])
+{
+    lanes_union u[3][3];
+    for (int l = 0; l < SPH_LANES; ++l) {
+        real t[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
+        if (b->first + l < n)
+            fullt_load(f[b->first + l], t);
+#pragma unroll
+        for (int a = 0; a < 3; ++a)
+#pragma unroll
+            for (int c = 0; c < 3; ++c)
+                u[a][c].s[l] = t[a][c];
+    }
+#pragma unroll
+    for (int a = 0; a < 3; ++a)
+#pragma unroll
+        for (int c = 0; c < 3; ++c)
+            out[a][c] = u[a][c].v;
+}
+
+/* av_limiter (pass2.cl) per lane */
+static inline realv av_limiter_v(realv g_i, realv g_j, realv eta, real eta_crit)
+{
+    const realv sum = g_i + g_j, fold = (eta - eta_crit) / ((real)0.2 * eta_crit);
+    const realv phi = select((realv)0, (real)4 * g_i * g_j / (sum * sum), g_i * g_j > (real)0);
+    return select(phi, phi * exp(-fold * fold), eta < eta_crit);
+}
+
+/* limited_jump (pass2.cl) per lane: jump = v_ij - phi / 2 (L_i + L_j) x_ij */
+static inline void limited_jump_v(realv vij[3], realv xij[3], realv r, real inv_h, realv l_i[3][3],
+                                  __global const fullt *restrict velocity_gradient, int j,
+                                  __constant const struct sph_run_params *run, realv jump[3])
+{
+    real l_j[3][3];
+    fullt_load(velocity_gradient[j], l_j);
+    realv d[3], g_i = (realv)0, g_j = (realv)0;
+#pragma unroll
+    for (int a = 0; a < SPH_DIM; ++a) {
+        realv d_i = (realv)0, d_j = (realv)0;
+#pragma unroll
+        for (int c = 0; c < SPH_DIM; ++c) {
+            d_i += l_i[a][c] * xij[c];
+            d_j += l_j[a][c] * xij[c];
+        }
+        g_i += xij[a] * d_i;
+        g_j += xij[a] * d_j;
+        d[a] = d_i + d_j;
+    }
+    const realv half_phi = (real)0.5 * av_limiter_v(g_i, g_j, r * inv_h, run->av_eta_crit);
+#pragma unroll
+    for (int a = 0; a < 3; ++a)
+        jump[a] = a < SPH_DIM ? vij[a] - half_phi * d[a] : (realv)0;
+}
+#endif
+
 #ifdef SPH_ARTIFICIAL_STRESS
 /* Monaghan's (2000) weight (W(r) / W(dx))^n per lane (pass2.cl). */
 static inline realv artificial_stress_weight_v(realv r, real h,
@@ -407,19 +467,19 @@ static inline realv artificial_stress_weight_v(realv r, real h,
 #endif
 
 /* reads: pos, pos0, vel, rho, mass, pressure, deviatoric_stress,
- * artificial_stress, csph, sound_speed; writes: acceleration, energy_rate,
- * xsph_velocity (as pass2_momentum_energy, whose comments give the
- * equations). */
-__kernel void
-pass2_lanes(__global const vec *restrict pos, __global const vec *restrict pos0,
-            __global const vec *restrict vel, __global const real *restrict rho,
-            __global const real *restrict mass, __global const real *restrict pressure,
-            __global const symt *restrict deviatoric_stress,
-            __global const symt *restrict artificial_stress, __global const symt *restrict csph,
-            __global const real *restrict sound_speed, __global const int *restrict flags,
-            GRID_ARGS, __constant const struct sph_run_params *run,
-            __global vec *restrict acceleration, __global real *restrict energy_rate,
-            __global vec *restrict xsph_velocity, const int n)
+ * artificial_stress, csph, sound_speed, velocity_gradient (limited);
+ * writes: acceleration, energy_rate, viscous_heating, xsph_velocity (as
+ * pass2_momentum_energy, whose comments give the equations). */
+__kernel void pass2_lanes(
+    __global const vec *restrict pos, __global const vec *restrict pos0,
+    __global const vec *restrict vel, __global const real *restrict rho,
+    __global const real *restrict mass, __global const real *restrict pressure,
+    __global const symt *restrict deviatoric_stress,
+    __global const symt *restrict artificial_stress, __global const symt *restrict csph,
+    __global const real *restrict sound_speed, __global const fullt *restrict velocity_gradient,
+    __global const int *restrict flags, GRID_ARGS, __constant const struct sph_run_params *run,
+    __global vec *restrict acceleration, __global real *restrict energy_rate,
+    __global real *restrict viscous_heating, __global vec *restrict xsph_velocity, const int n)
 {
     struct lane_block b;
     if ((int)get_global_id(0) * SPH_LANES >= n ||
@@ -460,8 +520,14 @@ pass2_lanes(__global const vec *restrict pos, __global const vec *restrict pos0,
 #else
     (void)csph;
 #endif
+#ifdef SPH_AV_LIMITED
+    realv l_i[3][3];
+    gather_fullt(velocity_gradient, &b, n, l_i);
+#else
+    (void)velocity_gradient;
+#endif
     realv acc[3] = {(realv)0, (realv)0, (realv)0}, xsph[3] = {(realv)0, (realv)0, (realv)0};
-    realv de = (realv)0;
+    realv de = (realv)0, de_viscous = (realv)0;
     FOR_EACH_LANE_NEIGHBOUR(b, j)
     {
         realv xij[3], r2;
@@ -477,7 +543,13 @@ pass2_lanes(__global const vec *restrict pos, __global const vec *restrict pos0,
         const real rho_j = rho[j], m_j = mass[j], m_over_rho_j = m_j / rho_j;
         const realv inv_rho_mean = (real)2 / (rho_i + rho_j);
         /* Monaghan (1992) viscosity, approaching pairs only */
-        const realv vr = vij[0] * xij[0] + vij[1] * xij[1] + vij[2] * xij[2];
+#ifdef SPH_AV_LIMITED
+        realv jump[3];
+        limited_jump_v(vij, xij, r, inv_h, l_i, velocity_gradient, j, run, jump);
+#else
+        realv *jump = vij;
+#endif
+        const realv vr = jump[0] * xij[0] + jump[1] * xij[1] + jump[2] * xij[2];
         const realv mu = h * vr / (r2 + (real)0.01 * h * h);
         const realv c_mean = (real)0.5 * (c_i + sound_speed[j]);
         const realv pi_ij =
@@ -485,6 +557,8 @@ pass2_lanes(__global const vec *restrict pos, __global const vec *restrict pos0,
                    vr < (real)0);
         const realv q = r * inv_h;
         const realv dwdr_r = select((realv)0, kernel_dwdr_over_r_q_v(q, h), near);
+        de_viscous += (real)0.5 * m_j * pi_ij * dwdr_r *
+                      (vij[0] * xij[0] + vij[1] * xij[1] + vij[2] * xij[2]);
         realv grad[3], g_i[3], g_j[3];
 #pragma unroll
         for (int a = 0; a < 3; ++a)
@@ -568,6 +642,7 @@ pass2_lanes(__global const vec *restrict pos, __global const vec *restrict pos0,
         const int i = b.first + l;
         acceleration[i] = vec_make(lane_of(acc[0], l), lane_of(acc[1], l), lane_of(acc[2], l));
         energy_rate[i] = lane_of(de, l);
+        viscous_heating[i] = lane_of(de_viscous, l);
 #ifdef SPH_XSPH
         xsph_velocity[i] = run->xsph_epsilon *
                            vec_make(lane_of(xsph[0], l), lane_of(xsph[1], l), lane_of(xsph[2], l));

@@ -15,20 +15,23 @@
  * writes only particle i's own state, none of what pass 1 reads of the
  * neighbours (integrate_drift writes the new density).
  *
+ * With SPH_AV_LIMITED the (corrected) L_i is also stored, for pass 2's
+ * reconstruction of the pair velocity jump (pass2.cl).
+ *
  * reads: pos, vel (half step), rho, mass, material, flags, energy_rate;
- * writes: csph; updates: the material state (MATERIAL_STATE_ARGS).
+ * writes: csph, velocity_gradient (SPH_AV_LIMITED); updates: the material
+ * state (MATERIAL_STATE_ARGS).
  */
 
 /* What pass 1 does with particle i's sums (shared with kernels/lanes.cl):
  * the CSPH correction C_i = B_i^-1 (symmetric, since grad W_ij is along
  * x_ij) applied to L_i, the density rate, and the material update. */
-static inline void
-pass1_finish(int i, real grad_v[3][3], real moment[3][3], __global const real *restrict rho,
-             __global const int *restrict material, __global const int *restrict flags,
-             __constant const struct sph_material *materials,
-             __constant const struct sph_run_params *run, __global symt *restrict csph,
-             const real dt, __global const vec *restrict pos, __global const vec *restrict vel,
-             MATERIAL_STATE_ARGS)
+static inline void pass1_finish(
+    int i, real grad_v[3][3], real moment[3][3], __global const real *restrict rho,
+    __global const int *restrict material, __global const int *restrict flags,
+    __constant const struct sph_material *materials, __constant const struct sph_run_params *run,
+    __global symt *restrict csph, __global fullt *restrict velocity_gradient, const real dt,
+    __global const vec *restrict pos, __global const vec *restrict vel, MATERIAL_STATE_ARGS)
 {
 #ifndef SPH_CSPH
     (void)moment;
@@ -44,6 +47,11 @@ pass1_finish(int i, real grad_v[3][3], real moment[3][3], __global const real *r
         for (int b = 0; b < 3; ++b)
             grad_v[a][b] = corrected[a][b];
     csph[i] = symt_store(c);
+#endif
+#ifdef SPH_AV_LIMITED
+    velocity_gradient[i] = fullt_store(grad_v);
+#else
+    (void)velocity_gradient;
 #endif
     real divergence = grad_v[0][0] + grad_v[1][1] + grad_v[2][2];
 #ifdef SPH_AXISYMMETRIC
@@ -63,7 +71,8 @@ pass1_velocity_gradient(__global const vec *restrict pos, __global const vec *re
                         __global const int *restrict material, __global const int *restrict flags,
                         GRID_ARGS, __constant const struct sph_material *materials,
                         __constant const struct sph_run_params *run, __global symt *restrict csph,
-                        const real dt, MATERIAL_STATE_ARGS, const int n)
+                        __global fullt *restrict velocity_gradient, const real dt,
+                        MATERIAL_STATE_ARGS, const int n)
 {
     const int i = get_global_id(0);
     if (i >= n || (flags[i] & SPH_FLAG_GHOST))
@@ -102,6 +111,6 @@ pass1_velocity_gradient(__global const vec *restrict pos, __global const vec *re
 #ifndef SPH_CSPH
     real moment[3][3];
 #endif
-    pass1_finish(i, grad_v, moment, rho, material, flags, materials, run, csph, dt, pos, vel,
-                 MATERIAL_STATE);
+    pass1_finish(i, grad_v, moment, rho, material, flags, materials, run, csph, velocity_gradient,
+                 dt, pos, vel, MATERIAL_STATE);
 }

@@ -14,13 +14,26 @@
  * balances the work of these forces exactly.
  * This pass adds the heating of the artificial terms,
  *   de_i/dt = -1/2 sum_j m_j (v_i - v_j) . (f^n (R_i + R_j) - Pi I) . g.
- * Pi_ij: Monaghan artificial viscosity (Monaghan 1992 eq. 4.1).
+ * Pi_ij: Monaghan artificial viscosity (Monaghan 1992 eq. 4.1). With
+ * SPH_AV_LIMITED (numerics.artificial_viscosity.scheme: limited) the
+ * velocity jump in mu_ij is not v_i - v_j but the jump left between the two
+ * particles' linear reconstructions to the pair's midpoint,
+ *   v_i - v_j - phi_ij / 2 (L_i + L_j) . x_ij,
+ * with L from pass 1 and a van Leer-type limiter phi_ij in [0, 1] of the
+ * ratio of the two slopes along x_ij (Frontiere, Raskin & Owen 2017, J.
+ * Comput. Phys. 332:160, sec. 2.3; Christensen 1990; as Spheral's limited
+ * Monaghan-Gingold viscosity): in a smooth flow (shear, uniform
+ * compression, rotation) the reconstructions meet and the viscosity
+ * vanishes, at a shock the slopes disagree, phi -> 0 and the full pair jump
+ * is damped. Pairs closer than a lattice spacing get the full jump back
+ * (av_limiter), which keeps particles from interpenetrating.
  * f_ij = W(r_ij) / W(dx): Monaghan (2000) artificial stress weight.
  * XSPH (Monaghan 1989): v^_i = v_i + eps sum_j m_j / rho_ij (v_j - v_i) W_ij.
  *
  * reads: pos, vel, rho, mass, pressure, deviatoric_stress,
- *        artificial_stress, csph, sound_speed;
- * writes: acceleration, energy_rate, xsph_velocity.
+ *        artificial_stress, csph, sound_speed, velocity_gradient (limited);
+ * writes: acceleration, energy_rate, viscous_heating (the viscosity's part
+ *         of energy_rate, for the work ledger), xsph_velocity.
  */
 
 /* sigma = S - p I */
@@ -83,6 +96,42 @@ static inline real artificial_stress_weight(real r, real h,
     return fn;
 }
 
+#ifdef SPH_AV_LIMITED
+/* The limiter of the reconstructed jump for the slopes g_i = x_ij . L_i .
+ * x_ij, g_j likewise: 4 g_i g_j / (g_i + g_j)^2 (van Leer's, symmetric in
+ * i and j; 0 where the slopes differ in sign), times a fade to zero for
+ * pairs closer than eta_crit h, exp(-((eta - eta_crit) / (eta_crit / 5))^2)
+ * (Frontiere et al. 2017's eta_crit and eta_fold). eta = r / h. */
+static inline real av_limiter(real g_i, real g_j, real eta, real eta_crit)
+{
+    const real sum = g_i + g_j, fold = (eta - eta_crit) / ((real)0.2 * eta_crit);
+    const real phi = g_i * g_j > 0 ? (real)4 * g_i * g_j / (sum * sum) : (real)0;
+    return eta < eta_crit ? phi * exp(-fold * fold) : phi;
+}
+
+/* v_i - v_j less the limited reconstruction from each side to the midpoint */
+static inline vec limited_jump(vec vij, vec xij, real r, real h, real l_i[3][3],
+                               __global const fullt *restrict velocity_gradient, int j,
+                               __constant const struct sph_run_params *run)
+{
+    real l_j[3][3], x[3], d_i[3], d_j[3];
+    fullt_load(velocity_gradient[j], l_j);
+#pragma unroll
+    for (int a = 0; a < 3; ++a)
+        x[a] = a < SPH_DIM ? vec_get(xij, a) : (real)0;
+    matrix_times(l_i, x, d_i);
+    matrix_times(l_j, x, d_j);
+    real g_i = 0, g_j = 0;
+#pragma unroll
+    for (int a = 0; a < SPH_DIM; ++a) {
+        g_i += x[a] * d_i[a];
+        g_j += x[a] * d_j[a];
+    }
+    const real half_phi = (real)0.5 * av_limiter(g_i, g_j, r / h, run->av_eta_crit);
+    return vij - half_phi * vec_make(d_i[0] + d_j[0], d_i[1] + d_j[1], d_i[2] + d_j[2]);
+}
+#endif
+
 static inline real artificial_viscosity(vec vij, vec xij, real r2, real h, real c_mean,
                                         real rho_mean, real alpha, real beta)
 {
@@ -99,9 +148,10 @@ __kernel void pass2_momentum_energy(
     __global const real *restrict mass, __global const real *restrict pressure,
     __global const symt *restrict deviatoric_stress,
     __global const symt *restrict artificial_stress, __global const symt *restrict csph,
-    __global const real *restrict sound_speed, __global const int *restrict flags, GRID_ARGS,
-    __constant const struct sph_run_params *run, __global vec *restrict acceleration,
-    __global real *restrict energy_rate, __global vec *restrict xsph_velocity, const int n)
+    __global const real *restrict sound_speed, __global const fullt *restrict velocity_gradient,
+    __global const int *restrict flags, GRID_ARGS, __constant const struct sph_run_params *run,
+    __global vec *restrict acceleration, __global real *restrict energy_rate,
+    __global real *restrict viscous_heating, __global vec *restrict xsph_velocity, const int n)
 {
     const int i = get_global_id(0);
     if (i >= n || (flags[i] & SPH_FLAG_GHOST))
@@ -129,8 +179,14 @@ __kernel void pass2_momentum_energy(
 #else
     (void)csph;
 #endif
+#ifdef SPH_AV_LIMITED
+    real l_i[3][3];
+    fullt_load(velocity_gradient[i], l_i);
+#else
+    (void)velocity_gradient;
+#endif
     real acc[3] = {0, 0, 0};
-    real de = 0;
+    real de = 0, de_viscous = 0;
     vec xsph = VEC_ZERO;
     FOR_EACH_NEIGHBOUR(i, j)
     {
@@ -150,10 +206,17 @@ __kernel void pass2_momentum_energy(
             const real m_j_at_i = m_j;
 #endif
             const real rho_mean = (real)0.5 * (rho_i + rho_j);
+#ifdef SPH_AV_LIMITED
+            const vec jump = limited_jump(vij, xij, r, h, l_i, velocity_gradient, j, run);
+#else
+            const vec jump = vij;
+#endif
             const real pi_ij =
-                artificial_viscosity(vij, xij, r2, h, (real)0.5 * (c_i + sound_speed[j]), rho_mean,
+                artificial_viscosity(jump, xij, r2, h, (real)0.5 * (c_i + sound_speed[j]), rho_mean,
                                      run->av_alpha, run->av_beta);
             const real dwdr_r = kernel_dwdr(r, h) / r;
+            /* the viscosity's heating, -1/2 m_j v_ij . (-Pi g): its share of de */
+            de_viscous += (real)0.5 * m_pair * pi_ij * dwdr_r * dot(vij, xij);
             real grad[3] = {0, 0, 0}, g_i[3], g_j[3];
 #pragma unroll
             for (int a = 0; a < SPH_DIM; ++a)
@@ -227,6 +290,7 @@ __kernel void pass2_momentum_energy(
 #endif
     acceleration[i] = vec_make(acc[0], acc[1], acc[2]);
     energy_rate[i] = de;
+    viscous_heating[i] = de_viscous;
 #ifdef SPH_XSPH
     xsph_velocity[i] = run->xsph_epsilon * xsph;
 #else

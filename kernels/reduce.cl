@@ -6,7 +6,8 @@
  * Velocities are the half-step ones the positions moved with, so the load
  * power times dt is the exact work of the step's load.
  * reads: pos, displacement, vel_half, xsph_velocity, mass, energy, rho,
- * sound_speed, flags, id, wall_force (with walls); writes: partials.
+ * sound_speed, flags, id, wall_force (with walls), viscous_heating,
+ * hourglass_power (total Lagrangian); writes: partials.
  */
 static inline bool slot_is_max(int slot)
 {
@@ -20,6 +21,8 @@ reduce_step(__global const vec *restrict pos, __global const vec *restrict displ
             __global const real *restrict rho, __global const real *restrict sound_speed,
             __global const int *restrict flags, __global const int *restrict id,
             __global const vec *restrict wall_force, const int wall_count,
+            __global const real *restrict viscous_heating,
+            __global const real *restrict hourglass_power,
             __constant const struct sph_run_params *run, const real4 load_force,
             __global real *restrict partials, const int n)
 {
@@ -47,6 +50,12 @@ reduce_step(__global const vec *restrict pos, __global const vec *restrict displ
             mine[SPH_RED_LOAD_POWER] += dot(f, v + xsph_velocity[i]); /* as the drift moves it */
         mine[SPH_RED_KINETIC] += (real)0.5 * mass[i] * dot(v, v);
         mine[SPH_RED_INTERNAL] += mass[i] * energy[i];
+        mine[SPH_RED_VISCOUS_POWER] += mass[i] * viscous_heating[i];
+#ifdef SPH_TOTAL_LAGRANGIAN /* hourglass_power exists only then */
+        mine[SPH_RED_HOURGLASS_POWER] += mass[i] * hourglass_power[i];
+#else
+        (void)hourglass_power;
+#endif
         if (flag & SPH_FLAG_PROBE) {
             const vec u = displacement[i];
             mine[SPH_RED_PROBE_DISP_X] += u.x;

@@ -218,18 +218,20 @@ static inline vec tl_hourglass(vec xji, vec big_xji, real r0, real w0, real f_me
 /* Pass 2 of the total Lagrangian form: stress force, artificial viscosity
  * (on the current pair geometry, as in the updated form), hourglass control,
  * XSPH. reads: pos, pos0, vel, rho, mass, first_piola, deformation_gradient,
- * sound_speed, material; writes: acceleration, energy_rate, xsph_velocity. */
-__kernel void tl_momentum(__global const vec *restrict pos, __global const vec *restrict pos0,
-                          __global const vec *restrict vel, __global const real *restrict rho,
-                          __global const real *restrict mass,
-                          __global const fullt *restrict first_piola,
-                          __global const fullt *restrict deformation_gradient,
-                          __global const real *restrict sound_speed,
-                          __global const int *restrict material, __global const int *restrict flags,
-                          GRID_ARGS, __constant const struct sph_material *materials,
-                          __constant const struct sph_run_params *run,
-                          __global vec *restrict acceleration, __global real *restrict energy_rate,
-                          __global vec *restrict xsph_velocity, const int n)
+ * sound_speed, material; writes: acceleration, energy_rate, viscous_heating
+ * (the viscosity's part of energy_rate), hourglass_power (W/kg: the work
+ * the hourglass forces take out of the motion, -1/2 sum_j v_ij . a_hg,ij,
+ * which is not heat and is kept apart for the energy ledger), xsph_velocity. */
+__kernel void tl_momentum(
+    __global const vec *restrict pos, __global const vec *restrict pos0,
+    __global const vec *restrict vel, __global const real *restrict rho,
+    __global const real *restrict mass, __global const fullt *restrict first_piola,
+    __global const fullt *restrict deformation_gradient, __global const real *restrict sound_speed,
+    __global const int *restrict material, __global const int *restrict flags, GRID_ARGS,
+    __constant const struct sph_material *materials, __constant const struct sph_run_params *run,
+    __global vec *restrict acceleration, __global real *restrict energy_rate,
+    __global real *restrict viscous_heating, __global real *restrict hourglass_power,
+    __global vec *restrict xsph_velocity, const int n)
 {
     const int i = get_global_id(0);
     if (i >= n || (flags[i] & SPH_FLAG_GHOST))
@@ -245,7 +247,7 @@ __kernel void tl_momentum(__global const vec *restrict pos, __global const vec *
     fullt_load(first_piola[i], a_i);
     fullt_load(deformation_gradient[i], f_i);
     real acc[3] = {0, 0, 0};
-    real de = 0;
+    real de = 0, hourglass_rate = 0;
     vec xsph = VEC_ZERO, acc_extra = VEC_ZERO; /* viscosity, hourglass */
     FOR_EACH_NEIGHBOUR_WITHIN(i, j, SPH_GRID_SPLIT)
     {
@@ -292,8 +294,10 @@ __kernel void tl_momentum(__global const vec *restrict pos, __global const vec *
 #pragma unroll
                     for (int b = 0; b < 3; ++b)
                         f_mean[a][b] = (real)0.5 * (f_mean[a][b] + f_i[a][b]);
-                acc_extra +=
+                const vec a_hg =
                     tl_hourglass(-xij, -big_xij, r0, kernel_w(r0, h), f_mean, hourglass, volume_j);
+                acc_extra += a_hg;
+                hourglass_rate -= (real)0.5 * dot(vij, a_hg);
             }
         }
     }
@@ -301,6 +305,8 @@ __kernel void tl_momentum(__global const vec *restrict pos, __global const vec *
     const real inv_rho0 = (real)1 / mi->density;
     acceleration[i] = inv_rho0 * vec_make(acc[0], acc[1], acc[2]) + acc_extra;
     energy_rate[i] = de;
+    viscous_heating[i] = de; /* no other artificial heating in this form */
+    hourglass_power[i] = hourglass_rate;
 #ifdef SPH_XSPH
     xsph_velocity[i] = run->xsph_epsilon * xsph;
 #else
