@@ -374,6 +374,25 @@ __kernel void pass1_lanes(__global const vec *restrict pos, __global const vec *
     }
 }
 
+/* Lane l of a tensor per lane, and the tensor of lanes. */
+static inline void lanes_tensor_put(lanes_union u[3][3], int l, real t[3][3])
+{
+#pragma unroll
+    for (int a = 0; a < 3; ++a)
+#pragma unroll
+        for (int c = 0; c < 3; ++c)
+            u[a][c].s[l] = t[a][c];
+}
+
+static inline void lanes_tensor_get(lanes_union u[3][3], realv out[3][3])
+{
+#pragma unroll
+    for (int a = 0; a < 3; ++a)
+#pragma unroll
+        for (int c = 0; c < 3; ++c)
+            out[a][c] = u[a][c].v;
+}
+
 /* A symmetric 3 x 3 tensor per lane (stress, artificial stress, CSPH). */
 static inline void gather_symt(__global const symt *restrict f, const struct lane_block *b, int n,
                                realv out[3][3])
@@ -382,17 +401,9 @@ static inline void gather_symt(__global const symt *restrict f, const struct lan
     for (int l = 0; l < SPH_LANES; ++l) {
         real t[3][3];
         symt_load(b->first + l < n ? f[b->first + l] : symt_zero(), t);
-#pragma unroll
-        for (int a = 0; a < 3; ++a)
-#pragma unroll
-            for (int c = 0; c < 3; ++c)
-                u[a][c].s[l] = t[a][c];
+        lanes_tensor_put(u, l, t);
     }
-#pragma unroll
-    for (int a = 0; a < 3; ++a)
-#pragma unroll
-        for (int c = 0; c < 3; ++c)
-            out[a][c] = u[a][c].v;
+    lanes_tensor_get(u, out);
 }
 
 #ifdef SPH_AV_LIMITED
@@ -405,17 +416,9 @@ static inline void gather_fullt(__global const fullt *restrict f, const struct l
         real t[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
         if (b->first + l < n)
             fullt_load(f[b->first + l], t);
-#pragma unroll
-        for (int a = 0; a < 3; ++a)
-#pragma unroll
-            for (int c = 0; c < 3; ++c)
-                u[a][c].s[l] = t[a][c];
+        lanes_tensor_put(u, l, t);
     }
-#pragma unroll
-    for (int a = 0; a < 3; ++a)
-#pragma unroll
-        for (int c = 0; c < 3; ++c)
-            out[a][c] = u[a][c].v;
+    lanes_tensor_get(u, out);
 }
 
 /* av_limiter (pass2.cl) per lane */
