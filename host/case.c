@@ -112,7 +112,7 @@ static const char *const precision_names[] = {"float", "double", NULL};
 static const char *const as_weight_names[] = {"relative", "lattice", NULL};
 static const char *const neighbour_loop_names[] = {"lanes", "plain", NULL};
 static const char *const formulation_names[] = {"updated_lagrangian", "total_lagrangian", NULL};
-static const char *const av_scheme_names[] = {"monaghan", "limited", NULL};
+static const char *const av_scheme_names[] = {"monaghan", "limited", "switch", NULL};
 static const char *const ref_nouns[] = {"material", "body", "group"};
 
 /* ---- errors ------------------------------------------------------------ */
@@ -864,6 +864,15 @@ static int check_reference(struct ctx *x, const struct frame *fr, void *base)
 static int check_numerics(struct ctx *x, const struct frame *fr, void *base)
 {
     const struct case_numerics *n = base;
+    if (n->total_lagrangian && n->av_scheme != SPH_AV_MONAGHAN)
+        return fail(x, line_of(fr, "artificial_viscosity"), subkey(x, "artificial_viscosity"),
+                    "expected scheme monaghan with formulation total_lagrangian (the limited and "
+                    "switch schemes are built into the updated Lagrangian passes only)");
+    if (n->av_scheme == SPH_AV_SWITCH && n->av_alpha_min > n->av_alpha)
+        return fail(x, line_of(fr, "artificial_viscosity"), subkey(x, "artificial_viscosity"),
+                    "expected alpha_min (%g) at most alpha (%g): with scheme switch alpha is "
+                    "the largest value the switch reaches",
+                    n->av_alpha_min, n->av_alpha);
     if (n->total_lagrangian && n->as_epsilon > 0)
         return fail(x, line_of(fr, "artificial_stress"), subkey(x, "artificial_stress"),
                     "expected epsilon 0 with formulation total_lagrangian (it has no tensile "
@@ -1127,7 +1136,8 @@ static const struct schema symmetry_schema =
 static const struct field viscosity_fields[] = {
     NUMBER("alpha", struct case_numerics, av_alpha, 0, R_NONNEG, 0, 0, 0.1, NULL),
     NUMBER("beta", struct case_numerics, av_beta, 0, R_NONNEG, 0, 0, 0.1, NULL),
-    ENUM("scheme", struct case_numerics, av_limited, 0, 0, av_scheme_names, NULL),
+    ENUM("scheme", struct case_numerics, av_scheme, 0, SPH_AV_MONAGHAN, av_scheme_names, NULL),
+    NUMBER("alpha_min", struct case_numerics, av_alpha_min, 0, R_NONNEG, 0, 0, 0.1, NULL),
 };
 static const struct schema viscosity_schema = SCHEMA(viscosity_fields, struct case_numerics, NULL);
 

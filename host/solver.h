@@ -53,6 +53,7 @@ enum field {
     FIELD_DEFORMATION_GRADIENT, /* total Lagrangian only */
     FIELD_FIRST_PIOLA,          /* total Lagrangian only: P C^T */
     FIELD_VELOCITY_GRADIENT,    /* total Lagrangian, or the limited viscosity (pass 1 -> pass 2) */
+    FIELD_AV_ALPHA,             /* the switch viscosity's alpha per particle */
     FIELD_PERSISTENT_END,
     FIELD_DENSITY_RATE = FIELD_PERSISTENT_END,
     FIELD_ACCELERATION,
@@ -158,7 +159,7 @@ struct solver {
     int graded;                  /* some body has a graded lattice (SPH_GRADED) */
     int lanes;                   /* particles per work-item of passes 1 and 2 (solver_lanes) */
     int csph, artificial_stress; /* the corrections in use: their fields exist */
-    int av_limited;              /* the limited artificial viscosity (pass 2 reads L_j) */
+    int av_scheme;               /* enum sph_av_scheme: its fields exist */
     double dx;                   /* lattice spacing, m */
     size_t element_size[ELEM_COUNT];
     cl_mem field[FIELD_COUNT];

@@ -32,6 +32,7 @@ const struct field_info field_table[FIELD_COUNT] = {
     [FIELD_ARTIFICIAL_STRESS] = {"artificial_stress", ELEM_SYMT, MIRROR_REFLECT},
     [FIELD_ACCELERATION] = {"acceleration", ELEM_VEC, MIRROR_NONE},
     [FIELD_ENERGY_RATE] = {"energy_rate", ELEM_REAL, MIRROR_NONE},
+    [FIELD_AV_ALPHA] = {"artificial_viscosity_alpha", ELEM_REAL, MIRROR_COPY},
     [FIELD_VISCOUS_HEATING] = {"artificial_viscosity_heating", ELEM_REAL, MIRROR_NONE},
     [FIELD_HOURGLASS_POWER] = {"hourglass_power", ELEM_REAL, MIRROR_NONE},
     [FIELD_XSPH_VELOCITY] = {"xsph_velocity", ELEM_VEC, MIRROR_REFLECT},
@@ -75,7 +76,9 @@ void solver_build_options(const struct sph_case *c, char *options, size_t size)
                                            : " -DSPH_ARTIFICIAL_STRESS")
                  : "",
              num->xsph_epsilon > 0 ? " -DSPH_XSPH" : "", plastic ? " -DSPH_PLASTICITY" : "",
-             num->av_limited && !num->total_lagrangian ? " -DSPH_AV_LIMITED" : "",
+             num->av_scheme == SPH_AV_LIMITED  ? " -DSPH_AV_LIMITED"
+             : num->av_scheme == SPH_AV_SWITCH ? " -DSPH_AV_SWITCH"
+                                               : "",
              num->double_precision ? " -DSPH_DOUBLE" : "",
              num->total_lagrangian ? " -DSPH_TOTAL_LAGRANGIAN" : "");
     const size_t used = strlen(options);
@@ -95,7 +98,9 @@ int solver_field_used(const struct solver *s, enum field f)
     case FIELD_CSPH: /* the total Lagrangian form keeps its correction there */
         return s->csph || s->total_lagrangian;
     case FIELD_VELOCITY_GRADIENT: /* the limited viscosity's reconstruction reads it in pass 2 */
-        return s->total_lagrangian || s->av_limited;
+        return s->total_lagrangian || s->av_scheme == SPH_AV_LIMITED;
+    case FIELD_AV_ALPHA:
+        return s->av_scheme == SPH_AV_SWITCH;
     case FIELD_DENSITY_RATE: /* the updated form's pass 1 uses it at once */
         return s->total_lagrangian;
     case FIELD_ARTIFICIAL_STRESS:
@@ -321,21 +326,21 @@ static void upload_walls(struct solver *s, const struct sph_case *c)
 
 static void upload_run_params(struct solver *s)
 {
-    const double v[13] = {s->run.h,           s->run.support,        s->run.av_alpha,
-                          s->run.av_beta,     s->run.av_eta_crit,    s->run.as_epsilon,
-                          s->run.as_inv_w_dx, s->run.xsph_epsilon,   s->run.damping,
-                          s->run.thickness,   s->run.velocity_limit, s->run.hourglass,
-                          s->run.axis_radius};
+    const double v[14] = {s->run.h,          s->run.support,     s->run.av_alpha,
+                          s->run.av_beta,    s->run.av_eta_crit, s->run.av_alpha_min,
+                          s->run.as_epsilon, s->run.as_inv_w_dx, s->run.xsph_epsilon,
+                          s->run.damping,    s->run.thickness,   s->run.velocity_limit,
+                          s->run.hourglass,  s->run.axis_radius};
     if (!s->double_precision) {
         CL_CHECK(clEnqueueWriteBuffer(s->dev->queue, s->run_params, CL_TRUE, 0, sizeof s->run,
                                       &s->run, 0, NULL, NULL));
         return;
     }
     struct {
-        cl_double v[13];
+        cl_double v[14];
         cl_int as_exponent, material_count;
     } wide;
-    for (int k = 0; k < 13; ++k)
+    for (int k = 0; k < 14; ++k)
         wide.v[k] = v[k];
     wide.as_exponent = s->run.as_exponent;
     wide.material_count = s->run.material_count;

@@ -114,6 +114,7 @@ static void fill_run_params(struct solver *s, const struct sph_case *c)
     s->run.av_alpha = (real)num->av_alpha;
     s->run.av_beta = (real)num->av_beta;
     s->run.av_eta_crit = (real)(1.0 / num->h_over_dx);
+    s->run.av_alpha_min = (real)num->av_alpha_min;
     s->run.as_epsilon = (real)num->as_epsilon;
     s->run.as_inv_w_dx = (real)(1.0 / sph_kernel_w_host(num->kernel, c->dimension, num->dx, h));
     s->run.xsph_epsilon = (real)num->xsph_epsilon;
@@ -146,7 +147,7 @@ int solver_create(struct solver *s, struct sph_device *dev, const struct sph_cas
     s->total_lagrangian = c->numerics.total_lagrangian;
     s->lanes = solver_lanes(c);
     s->csph = c->numerics.csph;
-    s->av_limited = c->numerics.av_limited && !c->numerics.total_lagrangian;
+    s->av_scheme = c->numerics.av_scheme;
     s->artificial_stress = c->numerics.as_epsilon > 0;
     s->wall_count = c->wall_count; /* wall_force exists only with walls */
     s->graded = solver_case_graded(c);
@@ -355,8 +356,8 @@ static void pass1(struct solver *s, double dt)
     SET_ARGS(s->k.pass1, MEM(f[FIELD_POS]), MEM(f[FIELD_VEL_HALF]), MEM(f[FIELD_RHO]),
              MEM(f[FIELD_MASS]), MEM(f[FIELD_MATERIAL]), MEM(f[FIELD_FLAGS]),
              GRID_ARG_LIST(s, dims), MEM(s->materials), MEM(s->run_params), MEM(f[FIELD_CSPH]),
-             MEM(f[FIELD_VELOCITY_GRADIENT]), real_value(s, &a_dt, dt), MATERIAL_STATE_LIST(f),
-             INT(s->n));
+             MEM(f[FIELD_VELOCITY_GRADIENT]), MEM(f[FIELD_AV_ALPHA]), real_value(s, &a_dt, dt),
+             MATERIAL_STATE_LIST(f), INT(s->n));
     launch(s, s->k.pass1, pass_items(s), 0);
 }
 
@@ -379,9 +380,10 @@ static void pass2(struct solver *s)
     SET_ARGS(s->k.pass2, MEM(f[FIELD_POS]), MEM(f[FIELD_POS0]), MEM(f[FIELD_VEL]),
              MEM(f[FIELD_RHO]), MEM(f[FIELD_MASS]), MEM(f[FIELD_PRESSURE]), MEM(f[FIELD_STRESS]),
              MEM(f[FIELD_ARTIFICIAL_STRESS]), MEM(f[FIELD_CSPH]), MEM(f[FIELD_SOUND_SPEED]),
-             MEM(f[FIELD_VELOCITY_GRADIENT]), MEM(f[FIELD_FLAGS]), GRID_ARG_LIST(s, dims),
-             MEM(s->run_params), MEM(f[FIELD_ACCELERATION]), MEM(f[FIELD_ENERGY_RATE]),
-             MEM(f[FIELD_VISCOUS_HEATING]), MEM(f[FIELD_XSPH_VELOCITY]), INT(s->n));
+             MEM(f[FIELD_VELOCITY_GRADIENT]), MEM(f[FIELD_AV_ALPHA]), MEM(f[FIELD_FLAGS]),
+             GRID_ARG_LIST(s, dims), MEM(s->run_params), MEM(f[FIELD_ACCELERATION]),
+             MEM(f[FIELD_ENERGY_RATE]), MEM(f[FIELD_VISCOUS_HEATING]), MEM(f[FIELD_XSPH_VELOCITY]),
+             INT(s->n));
     launch(s, s->k.pass2, pass_items(s), 0);
 }
 

@@ -136,24 +136,32 @@ struct case_group {
     struct case_load load;
 };
 
+/* numerics.artificial_viscosity.scheme */
+enum sph_av_scheme {
+    SPH_AV_MONAGHAN = 0, /* the pair's velocity difference (Monaghan 1992) */
+    SPH_AV_LIMITED = 1,  /* the limited linear reconstruction of the jump (pass2.cl) */
+    SPH_AV_SWITCH = 2    /* per-particle alpha driven by compression (material.cl) */
+};
+
 struct case_numerics {
     double dx;                   /* lattice spacing, m, required */
     enum sph_kernel_type kernel; /* default wendland_c2 */
     double h_over_dx;            /* default 1.2 */
     double av_alpha, av_beta;    /* default 0.1, 0.1 */
-    int av_limited;        /* scheme: 0 monaghan (pair jump), 1 limited (reconstructed jump) */
-    double as_epsilon;     /* default 0 (off) */
-    int as_exponent;       /* default 4 */
-    int as_lattice_weight; /* weight: 0 relative (default), 1 lattice (Monaghan 2000) */
-    double xsph_epsilon;   /* default 0 (off) */
-    int csph;              /* default 0 */
-    int total_lagrangian;  /* formulation: 0 updated_lagrangian (default), 1 total */
-    double hourglass;      /* total Lagrangian hourglass control coefficient, default 10 */
-    double cfl;            /* default 0.3 */
-    double end_time;       /* s, required */
-    double damping;        /* 1/s, default 0 */
-    int double_precision;  /* default 0 */
-    int plain_loops;       /* neighbour_loop: 0 lanes (default, where it applies), 1 plain */
+    int av_scheme;               /* enum sph_av_scheme, default monaghan */
+    double av_alpha_min;         /* switch: the floor alpha decays to, default 0.1 */
+    double as_epsilon;           /* default 0 (off) */
+    int as_exponent;             /* default 4 */
+    int as_lattice_weight;       /* weight: 0 relative (default), 1 lattice (Monaghan 2000) */
+    double xsph_epsilon;         /* default 0 (off) */
+    int csph;                    /* default 0 */
+    int total_lagrangian;        /* formulation: 0 updated_lagrangian (default), 1 total */
+    double hourglass;            /* total Lagrangian hourglass control coefficient, default 10 */
+    double cfl;                  /* default 0.3 */
+    double end_time;             /* s, required */
+    double damping;              /* 1/s, default 0 */
+    int double_precision;        /* default 0 */
+    int plain_loops;             /* neighbour_loop: 0 lanes (default, where it applies), 1 plain */
 };
 
 /* A rigid plane: particles stay on the side the normal points to, their

@@ -159,7 +159,8 @@ struct sph_run_params {
     real av_alpha;       /* Monaghan artificial viscosity alpha */
     real av_beta;        /* Monaghan artificial viscosity beta */
     real av_eta_crit;    /* limited viscosity: pair distance / h below which the
-                            reconstruction fades out, dx / h (kernels/common.cl) */
+                            reconstruction fades out, dx / h (kernels/pass2.cl) */
+    real av_alpha_min;   /* switch viscosity: the alpha it decays to (kernels/material.cl) */
     real as_epsilon;     /* Monaghan-Gray artificial stress epsilon */
     real as_inv_w_dx;    /* 1 / W(dx, h): normalises f_ij = W(r)/W(dx) */
     real xsph_epsilon;   /* XSPH velocity smoothing factor */

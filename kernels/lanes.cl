@@ -315,8 +315,9 @@ __kernel void pass1_lanes(__global const vec *restrict pos, __global const vec *
                           __global const int *restrict material, __global const int *restrict flags,
                           GRID_ARGS, __constant const struct sph_material *materials,
                           __constant const struct sph_run_params *run, __global symt *restrict csph,
-                          __global fullt *restrict velocity_gradient, const real dt,
-                          MATERIAL_STATE_ARGS, const int n)
+                          __global fullt *restrict velocity_gradient,
+                          __global real *restrict av_alpha, const real dt, MATERIAL_STATE_ARGS,
+                          const int n)
 {
     struct lane_block b;
     if ((int)get_global_id(0) * SPH_LANES >= n ||
@@ -369,8 +370,8 @@ __kernel void pass1_lanes(__global const vec *restrict pos, __global const vec *
                 gv[a][c] = lane_of(grad_v[a][c], l);
                 m[a][c] = lane_of(moment[a][c], l);
             }
-        pass1_finish(i, gv, m, rho, material, flags, materials, run, csph, velocity_gradient, dt,
-                     pos, vel, MATERIAL_STATE);
+        pass1_finish(i, gv, m, rho, material, flags, materials, run, csph, velocity_gradient,
+                     av_alpha, dt, pos, vel, MATERIAL_STATE);
     }
 }
 
@@ -470,19 +471,21 @@ static inline realv artificial_stress_weight_v(realv r, real h,
 #endif
 
 /* reads: pos, pos0, vel, rho, mass, pressure, deviatoric_stress,
- * artificial_stress, csph, sound_speed, velocity_gradient (limited);
+ * artificial_stress, csph, sound_speed, velocity_gradient (limited), av_alpha (switch);
  * writes: acceleration, energy_rate, viscous_heating, xsph_velocity (as
  * pass2_momentum_energy, whose comments give the equations). */
-__kernel void pass2_lanes(
-    __global const vec *restrict pos, __global const vec *restrict pos0,
-    __global const vec *restrict vel, __global const real *restrict rho,
-    __global const real *restrict mass, __global const real *restrict pressure,
-    __global const symt *restrict deviatoric_stress,
-    __global const symt *restrict artificial_stress, __global const symt *restrict csph,
-    __global const real *restrict sound_speed, __global const fullt *restrict velocity_gradient,
-    __global const int *restrict flags, GRID_ARGS, __constant const struct sph_run_params *run,
-    __global vec *restrict acceleration, __global real *restrict energy_rate,
-    __global real *restrict viscous_heating, __global vec *restrict xsph_velocity, const int n)
+__kernel void
+pass2_lanes(__global const vec *restrict pos, __global const vec *restrict pos0,
+            __global const vec *restrict vel, __global const real *restrict rho,
+            __global const real *restrict mass, __global const real *restrict pressure,
+            __global const symt *restrict deviatoric_stress,
+            __global const symt *restrict artificial_stress, __global const symt *restrict csph,
+            __global const real *restrict sound_speed,
+            __global const fullt *restrict velocity_gradient,
+            __global const real *restrict av_alpha, __global const int *restrict flags, GRID_ARGS,
+            __constant const struct sph_run_params *run, __global vec *restrict acceleration,
+            __global real *restrict energy_rate, __global real *restrict viscous_heating,
+            __global vec *restrict xsph_velocity, const int n)
 {
     struct lane_block b;
     if ((int)get_global_id(0) * SPH_LANES >= n ||
@@ -529,6 +532,12 @@ __kernel void pass2_lanes(
 #else
     (void)velocity_gradient;
 #endif
+#ifdef SPH_AV_SWITCH
+    const realv alpha_i = gather_real(av_alpha, &b, n);
+    const real beta_per_alpha = run->av_alpha > 0 ? run->av_beta / run->av_alpha : (real)0;
+#else
+    (void)av_alpha;
+#endif
     realv acc[3] = {(realv)0, (realv)0, (realv)0}, xsph[3] = {(realv)0, (realv)0, (realv)0};
     realv de = (realv)0, de_viscous = (realv)0;
     FOR_EACH_LANE_NEIGHBOUR(b, j)
@@ -555,9 +564,17 @@ __kernel void pass2_lanes(
         const realv vr = jump[0] * xij[0] + jump[1] * xij[1] + jump[2] * xij[2];
         const realv mu = h * vr / (r2 + (real)0.01 * h * h);
         const realv c_mean = (real)0.5 * (c_i + sound_speed[j]);
+#ifdef SPH_AV_SWITCH
+        const realv alpha_ij = (real)0.5 * (alpha_i + av_alpha[j]);
+        const realv pi_ij =
+            select((realv)0,
+                   (-alpha_ij * c_mean * mu + beta_per_alpha * alpha_ij * mu * mu) * inv_rho_mean,
+                   vr < (real)0);
+#else
         const realv pi_ij =
             select((realv)0, (-run->av_alpha * c_mean * mu + run->av_beta * mu * mu) * inv_rho_mean,
                    vr < (real)0);
+#endif
         const realv q = r * inv_h;
         const realv dwdr_r = select((realv)0, kernel_dwdr_over_r_q_v(q, h), near);
         de_viscous += (real)0.5 * m_j * pi_ij * dwdr_r *

@@ -19,19 +19,41 @@
  * reconstruction of the pair velocity jump (pass2.cl).
  *
  * reads: pos, vel (half step), rho, mass, material, flags, energy_rate;
- * writes: csph, velocity_gradient (SPH_AV_LIMITED); updates: the material
+ * writes: csph, velocity_gradient (SPH_AV_LIMITED); updates: av_alpha
+ * (SPH_AV_SWITCH) and the material
  * state (MATERIAL_STATE_ARGS).
  */
+
+#ifdef SPH_AV_SWITCH
+/* The switch viscosity's alpha over the step (Morris & Monaghan 1997, J.
+ * Comput. Phys. 136:41, eq. 11 with the source of eq. 12): decay to
+ * alpha_min over tau = h / (0.2 c), growth towards alpha_max (the case's
+ * alpha) at the compression rate S = max(-div v, 0):
+ *   d alpha / dt = -(alpha - alpha_min) / tau + S (alpha_max - alpha),
+ * linear in alpha, so integrated exactly over dt (stable for any dt). The
+ * first update (solver_prime, dt = 0) lifts the zeroed buffer to alpha_min. */
+static inline real switch_alpha(real alpha, real divergence, real sound_speed, real dt,
+                                __constant const struct sph_run_params *run)
+{
+    const real decay = (real)0.2 * sound_speed / run->h, source = fmax(-divergence, (real)0);
+    const real rate = decay + source;
+    const real target = (decay * run->av_alpha_min + source * run->av_alpha) / rate;
+    const real next = target + (alpha - target) * exp(-rate * dt);
+    return clamp(next, run->av_alpha_min, fmax(run->av_alpha, run->av_alpha_min));
+}
+#endif
 
 /* What pass 1 does with particle i's sums (shared with kernels/lanes.cl):
  * the CSPH correction C_i = B_i^-1 (symmetric, since grad W_ij is along
  * x_ij) applied to L_i, the density rate, and the material update. */
-static inline void pass1_finish(
-    int i, real grad_v[3][3], real moment[3][3], __global const real *restrict rho,
-    __global const int *restrict material, __global const int *restrict flags,
-    __constant const struct sph_material *materials, __constant const struct sph_run_params *run,
-    __global symt *restrict csph, __global fullt *restrict velocity_gradient, const real dt,
-    __global const vec *restrict pos, __global const vec *restrict vel, MATERIAL_STATE_ARGS)
+static inline void
+pass1_finish(int i, real grad_v[3][3], real moment[3][3], __global const real *restrict rho,
+             __global const int *restrict material, __global const int *restrict flags,
+             __constant const struct sph_material *materials,
+             __constant const struct sph_run_params *run, __global symt *restrict csph,
+             __global fullt *restrict velocity_gradient, __global real *restrict av_alpha,
+             const real dt, __global const vec *restrict pos, __global const vec *restrict vel,
+             MATERIAL_STATE_ARGS)
 {
 #ifndef SPH_CSPH
     (void)moment;
@@ -61,18 +83,22 @@ static inline void pass1_finish(
     /* sigma_zz = 0 needs eps_zz rate = -nu/(1-nu) (eps_xx + eps_yy) (Hooke) */
     divergence *= (real)1 - materials[material[i]].plane_stress_nu;
 #endif
+#ifdef SPH_AV_SWITCH
+    av_alpha[i] = switch_alpha(av_alpha[i], divergence, sound_speed[i], dt, run);
+#else
+    (void)av_alpha;
+#endif
     material_update_particle(i, grad_v, -rho[i] * divergence, dt, rho, material, flags, pos, vel,
                              materials, run, MATERIAL_STATE);
 }
 
-__kernel void
-pass1_velocity_gradient(__global const vec *restrict pos, __global const vec *restrict vel,
-                        __global const real *restrict rho, __global const real *restrict mass,
-                        __global const int *restrict material, __global const int *restrict flags,
-                        GRID_ARGS, __constant const struct sph_material *materials,
-                        __constant const struct sph_run_params *run, __global symt *restrict csph,
-                        __global fullt *restrict velocity_gradient, const real dt,
-                        MATERIAL_STATE_ARGS, const int n)
+__kernel void pass1_velocity_gradient(
+    __global const vec *restrict pos, __global const vec *restrict vel,
+    __global const real *restrict rho, __global const real *restrict mass,
+    __global const int *restrict material, __global const int *restrict flags, GRID_ARGS,
+    __constant const struct sph_material *materials, __constant const struct sph_run_params *run,
+    __global symt *restrict csph, __global fullt *restrict velocity_gradient,
+    __global real *restrict av_alpha, const real dt, MATERIAL_STATE_ARGS, const int n)
 {
     const int i = get_global_id(0);
     if (i >= n || (flags[i] & SPH_FLAG_GHOST))
@@ -112,5 +138,5 @@ pass1_velocity_gradient(__global const vec *restrict pos, __global const vec *re
     real moment[3][3];
 #endif
     pass1_finish(i, grad_v, moment, rho, material, flags, materials, run, csph, velocity_gradient,
-                 dt, pos, vel, MATERIAL_STATE);
+                 av_alpha, dt, pos, vel, MATERIAL_STATE);
 }

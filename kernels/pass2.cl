@@ -26,12 +26,16 @@
  * compression, rotation) the reconstructions meet and the viscosity
  * vanishes, at a shock the slopes disagree, phi -> 0 and the full pair jump
  * is damped. Pairs closer than a lattice spacing get the full jump back
- * (av_limiter), which keeps particles from interpenetrating.
+ * (av_limiter), which keeps particles from interpenetrating. With
+ * SPH_AV_SWITCH (scheme: switch) alpha is the pair mean of a per-particle
+ * alpha that compression raises and that decays to alpha_min elsewhere
+ * (pass1.cl, switch_alpha; Morris & Monaghan 1997), beta in proportion.
  * f_ij = W(r_ij) / W(dx): Monaghan (2000) artificial stress weight.
  * XSPH (Monaghan 1989): v^_i = v_i + eps sum_j m_j / rho_ij (v_j - v_i) W_ij.
  *
  * reads: pos, vel, rho, mass, pressure, deviatoric_stress,
- *        artificial_stress, csph, sound_speed, velocity_gradient (limited);
+ *        artificial_stress, csph, sound_speed, velocity_gradient (limited),
+ *        av_alpha (switch);
  * writes: acceleration, energy_rate, viscous_heating (the viscosity's part
  *         of energy_rate, for the work ledger), xsph_velocity.
  */
@@ -149,9 +153,10 @@ __kernel void pass2_momentum_energy(
     __global const symt *restrict deviatoric_stress,
     __global const symt *restrict artificial_stress, __global const symt *restrict csph,
     __global const real *restrict sound_speed, __global const fullt *restrict velocity_gradient,
-    __global const int *restrict flags, GRID_ARGS, __constant const struct sph_run_params *run,
-    __global vec *restrict acceleration, __global real *restrict energy_rate,
-    __global real *restrict viscous_heating, __global vec *restrict xsph_velocity, const int n)
+    __global const real *restrict av_alpha, __global const int *restrict flags, GRID_ARGS,
+    __constant const struct sph_run_params *run, __global vec *restrict acceleration,
+    __global real *restrict energy_rate, __global real *restrict viscous_heating,
+    __global vec *restrict xsph_velocity, const int n)
 {
     const int i = get_global_id(0);
     if (i >= n || (flags[i] & SPH_FLAG_GHOST))
@@ -185,6 +190,13 @@ __kernel void pass2_momentum_energy(
 #else
     (void)velocity_gradient;
 #endif
+#ifdef SPH_AV_SWITCH
+    /* beta follows alpha in the case's ratio (Morris & Monaghan 1997: beta = 2 alpha) */
+    const real alpha_i = av_alpha[i],
+               beta_per_alpha = run->av_alpha > 0 ? run->av_beta / run->av_alpha : (real)0;
+#else
+    (void)av_alpha;
+#endif
     real acc[3] = {0, 0, 0};
     real de = 0, de_viscous = 0;
     vec xsph = VEC_ZERO;
@@ -211,9 +223,16 @@ __kernel void pass2_momentum_energy(
 #else
             const vec jump = vij;
 #endif
+#ifdef SPH_AV_SWITCH
+            const real alpha_ij = (real)0.5 * (alpha_i + av_alpha[j]);
+            const real pi_ij =
+                artificial_viscosity(jump, xij, r2, h, (real)0.5 * (c_i + sound_speed[j]), rho_mean,
+                                     alpha_ij, alpha_ij * beta_per_alpha);
+#else
             const real pi_ij =
                 artificial_viscosity(jump, xij, r2, h, (real)0.5 * (c_i + sound_speed[j]), rho_mean,
                                      run->av_alpha, run->av_beta);
+#endif
             const real dwdr_r = kernel_dwdr(r, h) / r;
             /* the viscosity's heating, -1/2 m_j v_ij . (-Pi g): its share of de */
             de_viscous += (real)0.5 * m_pair * pi_ij * dwdr_r * dot(vij, xij);
