@@ -565,16 +565,13 @@ pass2_lanes(__global const vec *restrict pos, __global const vec *restrict pos0,
         const realv mu = h * vr / (r2 + (real)0.01 * h * h);
         const realv c_mean = (real)0.5 * (c_i + sound_speed[j]);
 #ifdef SPH_AV_SWITCH
-        const realv alpha_ij = (real)0.5 * (alpha_i + av_alpha[j]);
-        const realv pi_ij =
-            select((realv)0,
-                   (-alpha_ij * c_mean * mu + beta_per_alpha * alpha_ij * mu * mu) * inv_rho_mean,
-                   vr < (real)0);
+        const realv alpha_ij = (real)0.5 * (alpha_i + av_alpha[j]),
+                    beta_ij = beta_per_alpha * alpha_ij;
 #else
-        const realv pi_ij =
-            select((realv)0, (-run->av_alpha * c_mean * mu + run->av_beta * mu * mu) * inv_rho_mean,
-                   vr < (real)0);
+        const real alpha_ij = run->av_alpha, beta_ij = run->av_beta;
 #endif
+        const realv pi_ij = select(
+            (realv)0, (-alpha_ij * c_mean * mu + beta_ij * mu * mu) * inv_rho_mean, vr < (real)0);
         const realv q = r * inv_h;
         const realv dwdr_r = select((realv)0, kernel_dwdr_over_r_q_v(q, h), near);
         de_viscous += (real)0.5 * m_j * pi_ij * dwdr_r *

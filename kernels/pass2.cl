@@ -224,15 +224,13 @@ __kernel void pass2_momentum_energy(
             const vec jump = vij;
 #endif
 #ifdef SPH_AV_SWITCH
-            const real alpha_ij = (real)0.5 * (alpha_i + av_alpha[j]);
-            const real pi_ij =
-                artificial_viscosity(jump, xij, r2, h, (real)0.5 * (c_i + sound_speed[j]), rho_mean,
-                                     alpha_ij, alpha_ij * beta_per_alpha);
+            const real alpha_ij = (real)0.5 * (alpha_i + av_alpha[j]),
+                       beta_ij = alpha_ij * beta_per_alpha;
 #else
-            const real pi_ij =
-                artificial_viscosity(jump, xij, r2, h, (real)0.5 * (c_i + sound_speed[j]), rho_mean,
-                                     run->av_alpha, run->av_beta);
+            const real alpha_ij = run->av_alpha, beta_ij = run->av_beta;
 #endif
+            const real pi_ij = artificial_viscosity(
+                jump, xij, r2, h, (real)0.5 * (c_i + sound_speed[j]), rho_mean, alpha_ij, beta_ij);
             const real dwdr_r = kernel_dwdr(r, h) / r;
             /* the viscosity's heating, -1/2 m_j v_ij . (-Pi g): its share of de */
             de_viscous += (real)0.5 * m_pair * pi_ij * dwdr_r * dot(vij, xij);
