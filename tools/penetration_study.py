@@ -92,12 +92,14 @@ def describe(s, d):
     return [f"{1e6 * s['max_penetration_m']:.2f}", f"{s['max_penetration_m'] / d:.3f}",
             f"{1e9 * s['time_of_max_penetration_s']:.0f}",
             f"{1e6 * s['max_cavity_diameter_m']:.1f}", f"{1e6 * s['max_damaged_diameter_m']:.1f}",
-            f"{s['momentum_error']:.1e}", f"{s['energy_drift']:.3f}", s["particles"], s["steps"],
+            f"{s['momentum_error']:.1e}", f"{s['energy_drift']:.3f}",
+            f"{s['artificial_viscosity_work_fraction']:.2f}", s["particles"], s["steps"],
             f"{s['wall_time_s']:.0f}", s["status"]]
 
 
 HEADER = ["P_max (um)", "P_max/d", "t(P_max) (ns)", "D1 max (um)", "D2 max (um)",
-          "momentum error", "energy drift", "particles", "steps", "wall (s)", "status"]
+          "momentum error", "energy drift", "AV work / KE0", "particles", "steps", "wall (s)",
+          "status"]
 
 
 def trajectory_plot(path, title, runs, case):

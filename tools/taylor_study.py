@@ -47,12 +47,13 @@ def row(geometry, label, s):
             round(s.get("max_plastic_strain", float("nan")), 3),
             round(s.get("max_temperature_K", float("nan")), 1),
             round(100 * s["energy_drift"], 2),
+            round(100 * s.get("artificial_viscosity_work_fraction", float("nan")), 1),
             round(100 * s.get("max_neighbour_loss_fraction", float("nan")), 2)]
 
 
 HEADER = ["geometry", "{}", "particles", "steps", "wall (s)", "status", "final length (mm)",
           "footprint radius (mm)", "max plastic strain", "max T (K)", "energy drift (%)",
-          "neighbour loss (%)"]
+          "AV work / KE0 (%)", "neighbour loss (%)"]
 
 
 def convergence(args):
