@@ -140,7 +140,7 @@ struct case_group {
 enum sph_av_scheme {
     SPH_AV_MONAGHAN = 0, /* the pair's velocity difference (Monaghan 1992) */
     SPH_AV_LIMITED = 1,  /* the limited linear reconstruction of the jump (pass2.cl) */
-    SPH_AV_SWITCH = 2    /* per-particle alpha driven by compression (material.cl) */
+    SPH_AV_SWITCH = 2    /* per-particle alpha driven by compression (pass1.cl) */
 };
 
 struct case_numerics {

@@ -160,7 +160,7 @@ struct sph_run_params {
     real av_beta;        /* Monaghan artificial viscosity beta */
     real av_eta_crit;    /* limited viscosity: pair distance / h below which the
                             reconstruction fades out, dx / h (kernels/pass2.cl) */
-    real av_alpha_min;   /* switch viscosity: the alpha it decays to (kernels/material.cl) */
+    real av_alpha_min;   /* switch viscosity: the alpha it decays to (kernels/pass1.cl) */
     real as_epsilon;     /* Monaghan-Gray artificial stress epsilon */
     real as_inv_w_dx;    /* 1 / W(dx, h): normalises f_ij = W(r)/W(dx) */
     real xsph_epsilon;   /* XSPH velocity smoothing factor */

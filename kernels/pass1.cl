@@ -20,8 +20,7 @@
  *
  * reads: pos, vel (half step), rho, mass, material, flags, energy_rate;
  * writes: csph, velocity_gradient (SPH_AV_LIMITED); updates: av_alpha
- * (SPH_AV_SWITCH) and the material
- * state (MATERIAL_STATE_ARGS).
+ * (SPH_AV_SWITCH) and the material state (MATERIAL_STATE_ARGS).
  */
 
 #ifdef SPH_AV_SWITCH
@@ -31,7 +30,9 @@
  * alpha) at the compression rate S = max(-div v, 0):
  *   d alpha / dt = -(alpha - alpha_min) / tau + S (alpha_max - alpha),
  * linear in alpha, so integrated exactly over dt (stable for any dt). The
- * first update (solver_prime, dt = 0) lifts the zeroed buffer to alpha_min. */
+ * first update (solver_prime, dt = 0) lifts the zeroed buffer to alpha_min.
+ * h is the finest smoothing length: on a graded lattice the coarse shells
+ * decay faster than their own h would make them. */
 static inline real switch_alpha(real alpha, real divergence, real sound_speed, real dt,
                                 __constant const struct sph_run_params *run)
 {

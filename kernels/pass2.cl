@@ -118,7 +118,7 @@ static inline vec limited_jump(vec vij, vec xij, real r, real h, real l_i[3][3],
                                __global const fullt *restrict velocity_gradient, int j,
                                __constant const struct sph_run_params *run)
 {
-    real l_j[3][3], x[3], d_i[3], d_j[3];
+    real l_j[3][3], x[3], d_i[3] = {0, 0, 0}, d_j[3] = {0, 0, 0};
     fullt_load(velocity_gradient[j], l_j);
 #pragma unroll
     for (int a = 0; a < 3; ++a)
