@@ -324,6 +324,8 @@ int output_summary(struct output *o, const struct run_summary *s)
         json_number(f, "max_damaged_diameter_m", s->max_damaged_diameter_m, 0);
         json_number(f, "momentum_error", s->momentum_error, 0);
         json_number(f, "damaged_fraction", s->damaged_fraction, 0);
+        if (s->left_fine_region_time_s >= 0)
+            json_number(f, "nose_left_fine_region_time_s", s->left_fine_region_time_s, 0);
     }
     if (s->has_plasticity) {
         json_number(f, "max_plastic_strain", s->max_plastic_strain, 0);

@@ -84,6 +84,7 @@ struct run_summary {
     double max_cavity_diameter_m, max_damaged_diameter_m;
     double momentum_error; /* largest |p(t) - p(0)| / |p(0)| along the impact axis */
     double damaged_fraction;
+    double left_fine_region_time_s; /* nose first in a graded body's coarse shells; < 0 never */
 };
 
 /* Creates the folder (and parents), writes case.resolved.yaml and opens

@@ -27,6 +27,7 @@ struct ballistics_track {
     double max_penetration, time_of_max, final_penetration, final_velocity;
     double max_d1, max_d2, momentum_error;
     double damaged_fraction; /* largest over the snapshots */
+    double left_fine_time;   /* s: first row with the nose in a graded body's coarse shells; < 0 */
 };
 
 /* Everything the loop carries from step to step. */
@@ -134,6 +135,44 @@ static int watch_health(struct loop *L, struct history_row *row)
     return 1;
 }
 
+/* Whether point x lies in a graded body's box but outside its fine box:
+ * where the lattice does not refine with numerics.dx. */
+static int in_coarse_shells(const struct sph_case *c, const double x[3])
+{
+    for (int b = 0; b < c->body_count; ++b) {
+        const struct case_body *body = &c->bodies[b];
+        if (!body->grading.enabled)
+            continue;
+        int in_body = 1, in_fine = 1;
+        for (int a = 0; a < c->dimension; ++a) {
+            in_body &= x[a] >= body->box.min[a] && x[a] <= body->box.max[a];
+            in_fine &= x[a] >= body->grading.fine.min[a] && x[a] <= body->grading.fine.max[a];
+        }
+        if (in_body && !in_fine)
+            return 1;
+    }
+    return 0;
+}
+
+/* The first time the sphere's nose enters coarse shells: the depth from
+ * then on is not refined by numerics.dx, so a convergence study must not
+ * reach it (docs/shock_capturing.md, SEBS). */
+static void watch_fine_region(struct loop *L, const struct projectile_reading *p)
+{
+    const struct projectile *proj = &L->s->projectile;
+    double nose[3];
+    for (int a = 0; a < 3; ++a)
+        nose[a] = p->position[a] + proj->radius * proj->axis[a];
+    if (L->ballistics.left_fine_time >= 0 || !in_coarse_shells(L->c, nose))
+        return;
+    L->ballistics.left_fine_time = L->t;
+    if (!L->opt->quiet)
+        fprintf(stderr,
+                "\nsph: at t = %.6e s the sphere's nose (%.4g m deep) left the graded lattice's "
+                "fine region: from here on its depth does not refine with numerics.dx\n",
+                L->t, p->penetration);
+}
+
 /* The projectile's row of ballistics.csv and its running extremes. */
 static void track_projectile(struct loop *L)
 {
@@ -158,6 +197,7 @@ static void track_projectile(struct loop *L)
         b->time_of_max = L->t;
     }
     b->final_penetration = row.p.penetration;
+    watch_fine_region(L, &row.p);
     b->final_velocity = row.p.speed_along_axis;
     for (int k = 0; k < p->probe_count; ++k) {
         b->max_d1 = fmax(b->max_d1, row.p.cavity_d1[k]);
@@ -433,6 +473,7 @@ static void finish_summary(struct loop *L, struct run_summary *sum)
     sum->final_projectile_velocity_m_per_s = b->final_velocity;
     sum->max_cavity_diameter_m = b->max_d1;
     sum->max_damaged_diameter_m = b->max_d2;
+    sum->left_fine_region_time_s = b->left_fine_time;
     sum->momentum_error = b->momentum_error;
     sum->damaged_fraction = b->damaged_fraction;
 }
@@ -560,6 +601,7 @@ static int start(struct loop *L, char *error, size_t size)
     L->energy_start = total_energy(L);
     L->min_pair_distance = HUGE_VAL;
     L->first_unhealthy_time = -1;
+    L->ballistics.left_fine_time = -1;
     L->initial_neighbours = malloc(sizeof(int) * (size_t)L->s->n_real);
     L->neighbours = malloc(sizeof(int) * (size_t)L->s->n_real);
     L->damaged = calloc((size_t)L->s->n_real, 1);
