@@ -88,13 +88,24 @@ def run(args, case, d, v0, n, label, domain=1.0, graded=True):
     return summary, rows
 
 
+def status_note(s):
+    """The run's status, with what makes its P_max not a converged value:
+    the nose in the graded lattice's coarse shells, or P_max at the end."""
+    notes = [s["status"]]
+    if "nose_left_fine_region_time_s" in s:
+        notes.append(f"nose in coarse shells from {1e9 * s['nose_left_fine_region_time_s']:.0f} ns")
+    if s["time_of_max_penetration_s"] >= 0.99 * s["end_time_s"]:
+        notes.append("P_max at the end time: a lower bound")
+    return "; ".join(notes)
+
+
 def describe(s, d):
     return [f"{1e6 * s['max_penetration_m']:.2f}", f"{s['max_penetration_m'] / d:.3f}",
             f"{1e9 * s['time_of_max_penetration_s']:.0f}",
             f"{1e6 * s['max_cavity_diameter_m']:.1f}", f"{1e6 * s['max_damaged_diameter_m']:.1f}",
             f"{s['momentum_error']:.1e}", f"{s['energy_drift']:.3f}",
             f"{s['artificial_viscosity_work_fraction']:.2f}", s["particles"], s["steps"],
-            f"{s['wall_time_s']:.0f}", s["status"]]
+            f"{s['wall_time_s']:.0f}", status_note(s)]
 
 
 HEADER = ["P_max (um)", "P_max/d", "t(P_max) (ns)", "D1 max (um)", "D2 max (um)",
