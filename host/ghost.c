@@ -134,7 +134,7 @@ static void refresh_field(struct solver *s, enum field f)
 {
     struct ghosts *g = &s->ghosts;
     const struct field_info *info = &field_table[f];
-    if (info->mirror == MIRROR_NONE || !solver_field_used(s, f) || g->count == 0)
+    if (!solver_field_mirrored(s, f) || g->count == 0)
         return;
     cl_kernel k = g->refresh[info->kind];
     cl_uint a = 0;

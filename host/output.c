@@ -73,10 +73,8 @@ void output_history(struct output *o, const struct history_row *r)
     fprintf(o->history,
             "%.9e,%ld,%.6e,%.9e,%.9e,%.9e,%.9e,%.9e,%.6e,%.6e,%.6e,%.6e,%.6e,%.6e,%.6e,%.9e,",
             r->time, r->step, r->dt, r->probe, r->kinetic, r->internal, r->external_work,
-            r->kinetic + r->internal - r->external_work - r->wall_work + r->hourglass_work +
-                r->projectile_energy,
-            r->momentum[0], r->momentum[1], r->momentum[2], r->max_speed, r->wall_force[0],
-            r->wall_force[1], r->wall_force[2], r->wall_work);
+            r->total_energy, r->momentum[0], r->momentum[1], r->momentum[2], r->max_speed,
+            r->wall_force[0], r->wall_force[1], r->wall_force[2], r->wall_work);
     fprintf(o->history, "%.6e,%.6e,%.6e,%.0f,%.3f,%.0f,%.6e,%.9e,%.9e\n",
             r->health.min_pair_distance / r->dx, r->health.clumped_fraction,
             r->health.swegle_fraction, r->health.neighbours_min, r->health.neighbours_mean,

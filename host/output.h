@@ -40,12 +40,12 @@ struct history_row {
     double max_speed;
     double dx; /* lattice spacing, m (the pair distance is written over it) */
     struct health_reading health;
-    double energy_error;      /* (E - E0) / energy scale */
-    double wall_force[3];     /* on the walls, mean since the previous row, N */
-    double wall_work;         /* work of the wall forces on the particles so far, J */
-    double viscous_work;      /* heat made by the artificial viscosity so far, J */
-    double hourglass_work;    /* work the hourglass forces took out of the motion so far, J */
-    double projectile_energy; /* projectile kinetic + contact spring energy + damper work, J */
+    double energy_error;   /* (E - E0) / energy scale */
+    double wall_force[3];  /* on the walls, mean since the previous row, N */
+    double wall_work;      /* work of the wall forces on the particles so far, J */
+    double viscous_work;   /* heat made by the artificial viscosity so far, J */
+    double hourglass_work; /* work the hourglass forces took out of the motion so far, J */
+    double total_energy;   /* the run's energy ledger (host/run.c, total_energy), J */
 };
 
 /* The figures a run ends with (summary line and summary.json). */

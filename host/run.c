@@ -224,7 +224,7 @@ static int write_history(struct loop *L)
     row.wall_work = L->wall_work;
     row.viscous_work = L->viscous_work;
     row.hourglass_work = L->hourglass_work;
-    row.projectile_energy = L->ballistics.energy;
+    row.total_energy = total_energy(L);
     for (int a = 0; a < 3; ++a) /* the reaction on the walls */
         row.wall_force[a] =
             L->impulse_since_row_time > 0 ? -L->wall_impulse[a] / L->impulse_since_row_time : 0.0;

@@ -199,6 +199,9 @@ void solver_release(struct solver *s);
 
 /* Whether the formulation uses field f (others get a token buffer). */
 int solver_field_used(const struct solver *s, enum field f);
+/* Whether the ghosts must carry field f: a neighbour pass reads it of a
+ * mirror particle (field_table's mirror kind, in use, and read across). */
+int solver_field_mirrored(const struct solver *s, enum field f);
 /* bytes per slot of the gather spare: the largest persistent field's element */
 size_t solver_spare_element(const struct solver *s);
 

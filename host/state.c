@@ -112,6 +112,15 @@ int solver_field_used(const struct solver *s, enum field f)
     }
 }
 
+int solver_field_mirrored(const struct solver *s, enum field f)
+{
+    if (field_table[f].mirror == MIRROR_NONE || !solver_field_used(s, f))
+        return 0;
+    /* the total Lagrangian form's L serves the particle's own material
+     * update; only the limited viscosity reads a neighbour's (a ghost's) */
+    return f != FIELD_VELOCITY_GRADIENT || s->av_scheme == SPH_AV_LIMITED;
+}
+
 /* The largest element of the fields in use, of those before `end`: the
  * gather spare serves every persistent field's reorder. */
 static size_t largest_element(const struct solver *s, int end)

@@ -539,7 +539,7 @@ pass2_lanes(__global const vec *restrict pos, __global const vec *restrict pos0,
     (void)av_alpha;
 #endif
     realv acc[3] = {(realv)0, (realv)0, (realv)0}, xsph[3] = {(realv)0, (realv)0, (realv)0};
-    realv de = (realv)0, de_viscous = (realv)0;
+    realv de_viscous = (realv)0, de_stress = (realv)0; /* the two artificial heatings */
     FOR_EACH_LANE_NEIGHBOUR(b, j)
     {
         realv xij[3], r2;
@@ -637,14 +637,13 @@ pass2_lanes(__global const vec *restrict pos, __global const vec *restrict pos0,
                 for (int c = 0; c < SPH_DIM; ++c)
                     rg += (r_j[a][c] + r_i[a][c]) * grad[c];
                 extra[a] += fn * rg;
+                de_stress -= (real)0.5 * m_j * fn * vij[a] * rg;
             }
         }
 #endif
 #pragma unroll
-        for (int a = 0; a < SPH_DIM; ++a) {
+        for (int a = 0; a < SPH_DIM; ++a)
             acc[a] += m_over_rho_j * (t_i[a] + t_j[a] * inv_rho_i) + m_j * extra[a];
-            de -= (real)0.5 * m_j * vij[a] * extra[a];
-        }
 #ifdef SPH_XSPH
         const realv w = select((realv)0, kernel_w_q_v(q, h), near);
 #pragma unroll
@@ -658,7 +657,7 @@ pass2_lanes(__global const vec *restrict pos, __global const vec *restrict pos0,
             continue;
         const int i = b.first + l;
         acceleration[i] = vec_make(lane_of(acc[0], l), lane_of(acc[1], l), lane_of(acc[2], l));
-        energy_rate[i] = lane_of(de, l);
+        energy_rate[i] = lane_of(de_viscous + de_stress, l);
         viscous_heating[i] = lane_of(de_viscous, l);
 #ifdef SPH_XSPH
         xsph_velocity[i] = run->xsph_epsilon *

@@ -198,7 +198,7 @@ __kernel void pass2_momentum_energy(
     (void)av_alpha;
 #endif
     real acc[3] = {0, 0, 0};
-    real de = 0, de_viscous = 0;
+    real de_viscous = 0, de_stress = 0; /* the two artificial heatings */
     vec xsph = VEC_ZERO;
     FOR_EACH_NEIGHBOUR(i, j)
     {
@@ -276,16 +276,16 @@ __kernel void pass2_momentum_energy(
                             r_j[a][b] += r_i[a][b];
                     matrix_times(r_j, grad, rg);
 #pragma unroll
-                    for (int a = 0; a < SPH_DIM; ++a)
+                    for (int a = 0; a < SPH_DIM; ++a) {
                         extra[a] += fn * rg[a];
+                        de_stress -= (real)0.5 * m_pair * fn * vec_get(vij, a) * rg[a];
+                    }
                 }
             }
 #endif
 #pragma unroll
-            for (int a = 0; a < SPH_DIM; ++a) { /* sigma_i already carries 1 / rho_i */
+            for (int a = 0; a < SPH_DIM; ++a) /* sigma_i already carries 1 / rho_i */
                 acc[a] += (m_j * t_i[a] + m_j_at_i * t_j[a] / rho_i) / rho_j + m_pair * extra[a];
-                de -= (real)0.5 * m_pair * vec_get(vij, a) * extra[a];
-            }
 #ifdef SPH_XSPH
             xsph -= (m_j / rho_mean * kernel_w(r, h)) * vij;
 #endif
@@ -306,7 +306,7 @@ __kernel void pass2_momentum_energy(
     acc[0] -= sigma_i[2][2] / axis_radius(xi.x, run);
 #endif
     acceleration[i] = vec_make(acc[0], acc[1], acc[2]);
-    energy_rate[i] = de;
+    energy_rate[i] = de_viscous + de_stress;
     viscous_heating[i] = de_viscous;
 #ifdef SPH_XSPH
     xsph_velocity[i] = run->xsph_epsilon * xsph;
