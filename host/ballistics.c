@@ -225,6 +225,14 @@ void solver_projectile_read(struct solver *s, struct projectile_reading *out)
     read_cavity(s, out);
 }
 
+void solver_projectile_motion(struct solver *s, double centre[3], double velocity[3])
+{
+    double state[SPH_PROJ_SLOTS];
+    read_reals(s, s->projectile.state, SPH_PROJ_SLOTS, state);
+    for (int a = 0; a < 3; ++a)
+        centre[a] = state[SPH_PROJ_X + a], velocity[a] = state[SPH_PROJ_V + a];
+}
+
 void solver_projectile_release(struct solver *s)
 {
     struct projectile *p = &s->projectile;

@@ -36,6 +36,13 @@ int output_open(struct output *o, const char *folder, const struct sph_case *c, 
     o->particle_count = particles;
     o->dim = c->dimension;
     snprintf(o->probe_name, sizeof o->probe_name, "%s", c->has_probe ? c->probe.name : "probe");
+    o->projectile_radius = c->projectile.enabled ? 0.5 * c->projectile.diameter : 0;
+    o->wall_count = c->wall_count;
+    for (int w = 0; w < c->wall_count; ++w) {
+        snprintf(o->wall_name[w], sizeof o->wall_name[w], "%s", c->walls[w].name);
+        memcpy(o->wall_point[w], c->walls[w].point, sizeof o->wall_point[w]);
+        memcpy(o->wall_normal[w], c->walls[w].normal, sizeof o->wall_normal[w]);
+    }
     if (make_folders(folder) != 0) {
         snprintf(error, error_size, "cannot create the output folder %s: %s", folder,
                  strerror(errno));
@@ -124,39 +131,197 @@ void output_ballistics(struct output *o, const struct ballistics_row *r)
     fputc('\n', o->ballistics);
 }
 
-static int write_dataset(hid_t file, const char *name, hid_t type, const void *data, hsize_t rows,
-                         hsize_t cols)
+/* Writes one dataset with a "units" attribute. */
+static int write_dataset(hid_t where, const char *name, hid_t type, const void *data, hsize_t rows,
+                         hsize_t cols, const char *units)
 {
     const hsize_t dims[2] = {rows, cols};
     hid_t space = H5Screate_simple(cols > 1 ? 2 : 1, dims, NULL);
-    hid_t set = H5Dcreate2(file, name, type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    hid_t set = H5Dcreate2(where, name, type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
     herr_t status = set >= 0 ? H5Dwrite(set, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) : -1;
-    if (set >= 0)
+    if (set >= 0) {
+        hid_t text = H5Tcopy(H5T_C_S1), scalar = H5Screate(H5S_SCALAR);
+        H5Tset_size(text, strlen(units) + 1);
+        hid_t attr = H5Acreate2(set, "units", text, scalar, H5P_DEFAULT, H5P_DEFAULT);
+        if (attr < 0 || H5Awrite(attr, text, units) < 0)
+            status = -1;
+        if (attr >= 0)
+            H5Aclose(attr);
+        H5Sclose(scalar), H5Tclose(text);
         H5Dclose(set);
+    }
     H5Sclose(space);
     return status < 0;
 }
 
-static const char *const scalar_names[] = {"density",          "pressure",       "internal_energy",
-                                           "von_mises_stress", "plastic_strain", "temperature"};
-#define SCALAR_COUNT (int)(sizeof scalar_names / sizeof scalar_names[0])
+static int write_attribute(hid_t where, const char *name, hid_t type, const void *value,
+                           hsize_t count)
+{
+    hid_t space = H5Screate_simple(1, &count, NULL);
+    hid_t attr = H5Acreate2(where, name, type, space, H5P_DEFAULT, H5P_DEFAULT);
+    const int bad = attr < 0 || H5Awrite(attr, type, value) < 0;
+    if (attr >= 0)
+        H5Aclose(attr);
+    H5Sclose(space);
+    return bad;
+}
 
-static int write_snapshot_file(const char *path, const struct host_fields *f)
+/* The per-particle datasets of a snapshot, with their units and the XDMF
+ * attribute type they are declared with. */
+struct snapshot_field {
+    const char *name, *units, *xdmf_type;
+    int components, is_int;
+};
+static const struct snapshot_field snapshot_fields[] = {
+    {"velocity", "m/s", "Vector", 3, 0},
+    {"displacement", "m", "Vector", 3, 0},
+    {"stress", "Pa (XX, YY, ZZ, XY, YZ, XZ)", "Tensor6", 6, 0},
+    {"density", "kg/m^3", "Scalar", 1, 0},
+    {"pressure", "Pa", "Scalar", 1, 0},
+    {"internal_energy", "J/kg", "Scalar", 1, 0},
+    {"von_mises_stress", "Pa", "Scalar", 1, 0},
+    {"plastic_strain", "1", "Scalar", 1, 0},
+    {"temperature", "K", "Scalar", 1, 0},
+    {"mass", "kg (2-D: per m of thickness; axisymmetric: per radian)", "Scalar", 1, 0},
+    {"smoothing_length", "m", "Scalar", 1, 0},
+    {"flags", "bit set (README)", "Scalar", 1, 1},
+    {"material", "index into materials[]", "Scalar", 1, 1},
+    {"id", "index of the particle in the scene", "Scalar", 1, 1},
+};
+#define SNAPSHOT_FIELD_COUNT (int)(sizeof snapshot_fields / sizeof snapshot_fields[0])
+
+static const void *snapshot_data(const struct host_fields *f, int k)
+{
+    const void *data[] = {f->vel,         f->disp,   f->stress,           f->rho,
+                          f->pressure,    f->energy, f->von_mises,        f->plastic_strain,
+                          f->temperature, f->mass,   f->smoothing_length, f->flags,
+                          f->material,    f->id};
+    _Static_assert(sizeof data / sizeof data[0] == SNAPSHOT_FIELD_COUNT, "one pointer per field");
+    return data[k];
+}
+
+/* The projectile's surface at its snapshot position: a latitude-longitude
+ * sphere of triangles in 3-D, a circle of segments in 2-D (the x-y plane;
+ * axisymmetric: the meridian section). */
+#define SPHERE_RINGS 8
+#define SPHERE_SECTORS 16
+#define CIRCLE_SEGMENTS 48
+
+static int write_projectile_shape(hid_t file, int dim, double radius, const double centre[3])
+{
+    double points[3 * (SPHERE_SECTORS * (SPHERE_RINGS - 1) + 2)];
+    int cells[3 * 2 * SPHERE_SECTORS * (SPHERE_RINGS - 1)];
+    int np = 0, nc = 0, width = 3;
+    if (dim == 2) {
+        width = 2;
+        for (int k = 0; k < CIRCLE_SEGMENTS; ++k) {
+            const double a = 2 * M_PI * k / CIRCLE_SEGMENTS;
+            const double p[3] = {centre[0] + radius * cos(a), centre[1] + radius * sin(a), 0};
+            memcpy(&points[3 * np++], p, sizeof p);
+            cells[nc * 2] = k, cells[nc * 2 + 1] = (k + 1) % CIRCLE_SEGMENTS, ++nc;
+        }
+    } else {
+        const double poles[2][3] = {{0, 0, 1}, {0, 0, -1}};
+        for (int r = 1; r < SPHERE_RINGS; ++r)
+            for (int k = 0; k < SPHERE_SECTORS; ++k) {
+                const double polar = M_PI * r / SPHERE_RINGS, az = 2 * M_PI * k / SPHERE_SECTORS;
+                const double u[3] = {sin(polar) * cos(az), sin(polar) * sin(az), cos(polar)};
+                for (int a = 0; a < 3; ++a)
+                    points[3 * np + a] = centre[a] + radius * u[a];
+                ++np;
+            }
+        for (int e = 0; e < 2; ++e, ++np)
+            for (int a = 0; a < 3; ++a)
+                points[3 * np + a] = centre[a] + radius * poles[e][a];
+        const int north = np - 2, south = np - 1, last = SPHERE_RINGS - 2;
+        for (int k = 0; k < SPHERE_SECTORS; ++k) {
+            const int next = (k + 1) % SPHERE_SECTORS;
+            int *t = &cells[3 * nc];
+            t[0] = north, t[1] = k, t[2] = next, t += 3, ++nc;
+            t[0] = south, t[1] = last * SPHERE_SECTORS + next, t[2] = last * SPHERE_SECTORS + k,
+            ++nc;
+            for (int r = 0; r < last; ++r) {
+                const int a0 = r * SPHERE_SECTORS + k, a1 = r * SPHERE_SECTORS + next;
+                t = &cells[3 * nc];
+                t[0] = a0, t[1] = a0 + SPHERE_SECTORS, t[2] = a1 + SPHERE_SECTORS, ++nc;
+                t = &cells[3 * nc];
+                t[0] = a0, t[1] = a1 + SPHERE_SECTORS, t[2] = a1, ++nc;
+            }
+        }
+    }
+    hid_t group = H5Gcreate2(file, "projectile", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    if (group < 0)
+        return 1;
+    int bad = write_dataset(group, "points", H5T_NATIVE_DOUBLE, points, (hsize_t)np, 3, "m");
+    bad |= write_dataset(group, "cells", H5T_NATIVE_INT, cells, (hsize_t)nc, (hsize_t)width,
+                         "point indices");
+    return (H5Gclose(group) < 0) | bad;
+}
+
+/* Walls are planes: each drawn as a square (a segment in 2-D) about the
+ * plane's point nearest the first snapshot's centre, as wide as that
+ * snapshot's diagonal; written to every snapshot so that ParaView shows them
+ * at every time. */
+static int write_walls(hid_t file, const struct output *o)
+{
+    double points[4 * SPH_MAX_WALLS * 3];
+    int cells[4 * SPH_MAX_WALLS];
+    const int corners = o->dim == 2 ? 2 : 4;
+    const double su[4] = {-1, 1, 1, -1}, sv[4] = {-1, -1, 1, 1};
+    for (int w = 0; w < o->wall_count; ++w) {
+        const double *n = o->wall_normal[w], *c = o->wall_centre[w];
+        double u[3] = {-n[1], n[0], 0}, v[3];
+        if (o->dim == 3 && fabs(n[2]) > 0.9)
+            u[0] = 0, u[1] = -n[2], u[2] = n[1];
+        const double un = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+        for (int a = 0; a < 3; ++a)
+            u[a] *= o->wall_half_width / un;
+        v[0] = n[1] * u[2] - n[2] * u[1], v[1] = n[2] * u[0] - n[0] * u[2];
+        v[2] = n[0] * u[1] - n[1] * u[0];
+        for (int k = 0; k < corners; ++k) {
+            cells[w * corners + k] = w * corners + k;
+            for (int a = 0; a < 3; ++a)
+                points[3 * (w * corners + k) + a] =
+                    c[a] + su[k] * u[a] + (o->dim == 2 ? 0 : sv[k] * v[a]);
+        }
+    }
+    hid_t group = H5Gcreate2(file, "walls", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    if (group < 0)
+        return 1;
+    const hsize_t count = (hsize_t)(o->wall_count * corners);
+    int bad = write_dataset(group, "points", H5T_NATIVE_DOUBLE, points, count, 3, "m");
+    bad |= write_dataset(group, "cells", H5T_NATIVE_INT, cells, (hsize_t)o->wall_count,
+                         (hsize_t)corners, "point indices");
+    return (H5Gclose(group) < 0) | bad;
+}
+
+static int write_snapshot_file(const struct output *o, const char *path,
+                               const struct host_fields *f, const struct snapshot_meta *m)
 {
     hid_t file = H5Fcreate(path, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
     if (file < 0)
         return 1;
     const hsize_t n = (hsize_t)f->n;
-    const double *scalars[] = {f->rho,       f->pressure,       f->energy,
-                               f->von_mises, f->plastic_strain, f->temperature};
-    int bad = write_dataset(file, "position", H5T_NATIVE_DOUBLE, f->pos, n, 3);
-    bad |= write_dataset(file, "velocity", H5T_NATIVE_DOUBLE, f->vel, n, 3);
-    bad |= write_dataset(file, "displacement", H5T_NATIVE_DOUBLE, f->disp, n, 3);
-    bad |= write_dataset(file, "stress", H5T_NATIVE_DOUBLE, f->stress, n, 6);
-    for (int k = 0; k < SCALAR_COUNT; ++k)
-        bad |= write_dataset(file, scalar_names[k], H5T_NATIVE_DOUBLE, scalars[k], n, 1);
-    bad |= write_dataset(file, "flags", H5T_NATIVE_INT, f->flags, n, 1);
-    bad |= write_dataset(file, "material", H5T_NATIVE_INT, f->material, n, 1);
+    int bad = write_dataset(file, "position", H5T_NATIVE_DOUBLE, f->pos, n, 3, "m");
+    for (int k = 0; k < SNAPSHOT_FIELD_COUNT; ++k) {
+        const struct snapshot_field *sf = &snapshot_fields[k];
+        bad |= write_dataset(file, sf->name, sf->is_int ? H5T_NATIVE_INT : H5T_NATIVE_DOUBLE,
+                             snapshot_data(f, k), n, (hsize_t)sf->components, sf->units);
+    }
+    const long long step = m->step;
+    const int dim = o->dim;
+    bad |= write_attribute(file, "time_s", H5T_NATIVE_DOUBLE, &m->time, 1);
+    bad |= write_attribute(file, "step", H5T_NATIVE_LLONG, &step, 1);
+    bad |= write_attribute(file, "dimension", H5T_NATIVE_INT, &dim, 1);
+    if (o->projectile_radius > 0) {
+        bad |= write_attribute(file, "projectile_centre_m", H5T_NATIVE_DOUBLE, m->projectile_centre,
+                               3);
+        bad |= write_attribute(file, "projectile_velocity_m_per_s", H5T_NATIVE_DOUBLE,
+                               m->projectile_velocity, 3);
+        bad |= write_projectile_shape(file, o->dim, o->projectile_radius, m->projectile_centre);
+    }
+    if (o->wall_count > 0)
+        bad |= write_walls(file, o);
     return (H5Fclose(file) < 0) | bad;
 }
 
@@ -178,6 +343,75 @@ static void xdmf_attribute(FILE *x, const char *file, const char *name, const ch
     fprintf(x, "      </Attribute>\n");
 }
 
+/* One vertex cell per particle, its connectivity the id column (rows are in
+ * id order): ParaView's default Xdmf3 reader draws a Polyvertex topology
+ * only when it is given its connectivity. */
+static void xdmf_particles(FILE *x, const char *file, int n)
+{
+    fprintf(x,
+            "      <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"%d\" "
+            "NodesPerElement=\"1\">\n",
+            n);
+    xdmf_item(x, file, "id", n, 1, 1);
+    fprintf(x, "      </Topology>\n      <Geometry GeometryType=\"XYZ\">\n");
+    xdmf_item(x, file, "position", n, 3, 0);
+    fprintf(x, "      </Geometry>\n");
+    for (int k = 0; k < SNAPSHOT_FIELD_COUNT; ++k) {
+        const struct snapshot_field *sf = &snapshot_fields[k];
+        xdmf_attribute(x, file, sf->name, sf->xdmf_type, n, sf->components, sf->is_int);
+    }
+}
+
+static void xdmf_projectile(FILE *x, const char *file, int dim)
+{
+    const int points = dim == 2 ? CIRCLE_SEGMENTS : SPHERE_SECTORS * (SPHERE_RINGS - 1) + 2;
+    const int cells = dim == 2 ? CIRCLE_SEGMENTS : 2 * SPHERE_SECTORS * (SPHERE_RINGS - 1);
+    if (dim == 2)
+        fprintf(x,
+                "      <Topology TopologyType=\"Polyline\" NumberOfElements=\"%d\" "
+                "NodesPerElement=\"2\">\n",
+                cells);
+    else
+        fprintf(x, "      <Topology TopologyType=\"Triangle\" NumberOfElements=\"%d\">\n", cells);
+    xdmf_item(x, file, "projectile/cells", cells, dim == 2 ? 2 : 3, 1);
+    fprintf(x, "      </Topology>\n      <Geometry GeometryType=\"XYZ\">\n");
+    xdmf_item(x, file, "projectile/points", points, 3, 0);
+    fprintf(x, "      </Geometry>\n");
+}
+
+static void xdmf_walls(FILE *x, const char *file, const struct output *o)
+{
+    const int corners = o->dim == 2 ? 2 : 4;
+    fprintf(x, "      <Topology TopologyType=\"%s\" NumberOfElements=\"%d\">\n",
+            o->dim == 2 ? "Polyline\" NodesPerElement=\"2" : "Quadrilateral", o->wall_count);
+    xdmf_item(x, file, "walls/cells", o->wall_count, corners, 1);
+    fprintf(x, "      </Topology>\n      <Geometry GeometryType=\"XYZ\">\n");
+    xdmf_item(x, file, "walls/points", o->wall_count * corners, 3, 0);
+    fprintf(x, "      </Geometry>\n");
+}
+
+enum series { SERIES_PARTICLES, SERIES_PROJECTILE, SERIES_WALLS };
+
+static void xdmf_series(FILE *x, const struct output *o, const char *name, enum series what)
+{
+    fprintf(x, "    <Grid Name=\"%s\" GridType=\"Collection\" CollectionType=\"Temporal\">\n",
+            name);
+    for (int s = 0; s < o->snapshot_count; ++s) {
+        char file[64];
+        snprintf(file, sizeof file, "snap_%05d.h5", s);
+        fprintf(x, "    <Grid Name=\"%s_%05d\" GridType=\"Uniform\">\n", name, s);
+        fprintf(x, "      <Time Value=\"%.9e\"/>\n", o->snapshot_times[s]);
+        if (what == SERIES_PROJECTILE)
+            xdmf_projectile(x, file, o->dim);
+        else if (what == SERIES_WALLS)
+            xdmf_walls(x, file, o);
+        else
+            xdmf_particles(x, file, o->particle_count);
+        fprintf(x, "    </Grid>\n");
+    }
+    fprintf(x, "    </Grid>\n");
+}
+
 static int write_xdmf(const struct output *o)
 {
     char path[SPH_PATH_MAX + 64], tmp[SPH_PATH_MAX + 64];
@@ -186,49 +420,55 @@ static int write_xdmf(const struct output *o)
     FILE *x = fopen(tmp, "w");
     if (!x)
         return 1;
-    const int n = o->particle_count;
-    fprintf(x, "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n  <Domain>\n"
-               "    <Grid Name=\"particles\" GridType=\"Collection\" "
-               "CollectionType=\"Temporal\">\n");
-    for (int s = 0; s < o->snapshot_count; ++s) {
-        char file[64];
-        snprintf(file, sizeof file, "snap_%05d.h5", s);
-        fprintf(x, "    <Grid Name=\"snap_%05d\" GridType=\"Uniform\">\n", s);
-        fprintf(x, "      <Time Value=\"%.9e\"/>\n", o->snapshot_times[s]);
-        fprintf(x,
-                "      <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"%d\" "
-                "NodesPerElement=\"1\"/>\n      <Geometry GeometryType=\"XYZ\">\n",
-                n);
-        xdmf_item(x, file, "position", n, 3, 0);
-        fprintf(x, "      </Geometry>\n");
-        xdmf_attribute(x, file, "velocity", "Vector", n, 3, 0);
-        xdmf_attribute(x, file, "displacement", "Vector", n, 3, 0);
-        xdmf_attribute(x, file, "stress", "Tensor6", n, 6, 0);
-        for (int k = 0; k < SCALAR_COUNT; ++k)
-            xdmf_attribute(x, file, scalar_names[k], "Scalar", n, 1, 0);
-        xdmf_attribute(x, file, "flags", "Scalar", n, 1, 1);
-        xdmf_attribute(x, file, "material", "Scalar", n, 1, 1);
-        fprintf(x, "    </Grid>\n");
-    }
-    fprintf(x, "    </Grid>\n  </Domain>\n</Xdmf>\n");
+    fprintf(x, "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n  <Domain>\n");
+    xdmf_series(x, o, "particles", SERIES_PARTICLES);
+    if (o->projectile_radius > 0)
+        xdmf_series(x, o, "projectile", SERIES_PROJECTILE);
+    if (o->wall_count > 0)
+        xdmf_series(x, o, "walls", SERIES_WALLS);
+    fprintf(x, "  </Domain>\n</Xdmf>\n");
     if (fclose(x) != 0)
         return 1;
     return rename(tmp, path) != 0;
 }
 
-int output_snapshot(struct output *o, const struct host_fields *f, double time, long step,
+/* Where each wall is drawn: the plane's point nearest the centre of the
+ * first snapshot's particles. */
+static void place_walls(struct output *o, const struct host_fields *f)
+{
+    double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+    for (int i = 0; i < f->n; ++i)
+        for (int a = 0; a < 3; ++a)
+            lo[a] = fmin(lo[a], f->pos[3 * i + a]), hi[a] = fmax(hi[a], f->pos[3 * i + a]);
+    double diagonal = 0, centre[3];
+    for (int a = 0; a < 3; ++a) {
+        centre[a] = f->n ? 0.5 * (lo[a] + hi[a]) : 0;
+        diagonal += f->n ? (hi[a] - lo[a]) * (hi[a] - lo[a]) : 0;
+    }
+    o->wall_half_width = fmax(0.5 * sqrt(diagonal), 1e-6);
+    for (int w = 0; w < o->wall_count; ++w) {
+        double height = 0;
+        for (int a = 0; a < 3; ++a)
+            height += (centre[a] - o->wall_point[w][a]) * o->wall_normal[w][a];
+        for (int a = 0; a < 3; ++a)
+            o->wall_centre[w][a] = centre[a] - height * o->wall_normal[w][a];
+    }
+}
+
+int output_snapshot(struct output *o, const struct host_fields *f, const struct snapshot_meta *meta,
                     char *error, size_t error_size)
 {
-    (void)step;
     if (o->snapshot_count >= SPH_MAX_SNAPSHOTS)
         return 0;
+    if (o->snapshot_count == 0)
+        place_walls(o, f);
     char path[SPH_PATH_MAX + 64];
     snprintf(path, sizeof path, "%s/snap_%05d.h5", o->folder, o->snapshot_count);
-    if (write_snapshot_file(path, f) != 0) {
+    if (write_snapshot_file(o, path, f, meta) != 0) {
         snprintf(error, error_size, "cannot write snapshot %s", path);
         return 1;
     }
-    o->snapshot_times[o->snapshot_count++] = time;
+    o->snapshot_times[o->snapshot_count++] = meta->time;
     if (write_xdmf(o) != 0) {
         snprintf(error, error_size, "cannot write %s/snapshots.xdmf: %s", o->folder,
                  strerror(errno));

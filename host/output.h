@@ -20,6 +20,18 @@ struct output {
     char probe_name[SPH_NAME_MAX];
     FILE *ballistics; /* ballistics.csv, with a projectile */
     int cavity_probes;
+    double projectile_radius; /* m; 0 without a projectile */
+    int wall_count;           /* walls drawn in the XDMF (a square or segment each) */
+    char wall_name[SPH_MAX_WALLS][SPH_NAME_MAX];
+    double wall_point[SPH_MAX_WALLS][3], wall_normal[SPH_MAX_WALLS][3];
+    double wall_centre[SPH_MAX_WALLS][3], wall_half_width; /* placed at the first snapshot */
+};
+
+/* What a snapshot file records beside the particles. */
+struct snapshot_meta {
+    double time; /* s */
+    long step;
+    double projectile_centre[3], projectile_velocity[3]; /* m, m/s; with a projectile */
 };
 
 /* One row of ballistics.csv (with a projectile). */
@@ -91,7 +103,7 @@ struct run_summary {
  * history.csv. Returns 0, or non-zero with a sentence in `error`. */
 int output_open(struct output *o, const char *folder, const struct sph_case *c, int particles,
                 char *error, size_t error_size);
-int output_snapshot(struct output *o, const struct host_fields *f, double time, long step,
+int output_snapshot(struct output *o, const struct host_fields *f, const struct snapshot_meta *meta,
                     char *error, size_t error_size);
 void output_history(struct output *o, const struct history_row *row);
 /* ballistics.csv: opened when the case has a projectile. */

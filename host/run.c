@@ -314,8 +314,11 @@ static int write_snapshot(struct loop *L)
 {
     struct host_fields f;
     char error[512];
+    struct snapshot_meta meta = {.time = L->t, .step = L->step};
     solver_read_fields(L->s, &f);
-    const int status = output_snapshot(L->out, &f, L->t, L->step, error, sizeof error);
+    if (L->s->projectile.enabled)
+        solver_projectile_motion(L->s, meta.projectile_centre, meta.projectile_velocity);
+    const int status = output_snapshot(L->out, &f, &meta, error, sizeof error);
     measure_impact(L, &f);
     host_fields_free(&f);
     if (status)

@@ -241,8 +241,10 @@ struct host_fields {
     int n;
     double *pos, *vel, *disp;                                                   /* 3 per particle */
     double *rho, *pressure, *energy, *plastic_strain, *von_mises, *temperature; /* K */
-    double *stress; /* 6 per particle: xx, xy, xz, yy, yz, zz (XDMF Tensor6), Pa */
-    int *flags, *material;
+    double *stress;           /* 6 per particle: xx, yy, zz, xy, yz, xz (ParaView's Tensor6), Pa */
+    double *mass;             /* kg (2-D: per metre of thickness; axisymmetric: per radian) */
+    double *smoothing_length; /* m */
+    int *flags, *material, *id; /* id: the particle's index in the scene (= its row) */
 };
 int solver_read_fields(struct solver *s, struct host_fields *out);
 
@@ -265,6 +267,8 @@ int solver_projectile_create(struct solver *s, const struct sph_case *c,
 void solver_projectile_contact(struct solver *s, double dt, double dt_prev);
 void solver_projectile_advance(struct solver *s, double dt, double dt_prev);
 void solver_projectile_read(struct solver *s, struct projectile_reading *out);
+/* Centre (m) and velocity (m/s) only, without the cavity probes. */
+void solver_projectile_motion(struct solver *s, double centre[3], double velocity[3]);
 void solver_projectile_release(struct solver *s);
 /* Before any device work: the sphere must not overlap the target at t = 0. */
 int projectile_check_scene(const struct sph_case *c, const struct sph_scene *scene, char *error,

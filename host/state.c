@@ -494,22 +494,26 @@ static void allocate_fields(struct host_fields *o, int n)
     o->plastic_strain = calloc((size_t)n, sizeof(double));
     o->temperature = calloc((size_t)n, sizeof(double));
     o->von_mises = calloc((size_t)n, sizeof(double));
+    o->mass = calloc((size_t)n, sizeof(double));
+    o->smoothing_length = calloc((size_t)n, sizeof(double));
     o->flags = calloc((size_t)n, sizeof(int));
     o->material = calloc((size_t)n, sizeof(int));
+    o->id = calloc((size_t)n, sizeof(int));
 }
 
-/* Deviatoric stress (device symt) + pressure to the full stress in XDMF
- * Tensor6 order, and its von Mises equivalent. */
+/* Deviatoric stress (device symt: xx, yy, zz, xy, xz, yz) + pressure to the
+ * full stress in ParaView's Tensor6 order (XX, YY, ZZ, XY, YZ, XZ: what its
+ * Xdmf3 reader names the components), and its von Mises equivalent. */
 static void stress_to_tensor6(const double *sym, int dim, double p, double out[6], double *vm)
 {
     const double xx = sym[0], yy = sym[1], zz = sym[2], xy = sym[3];
     const double xz = dim == 3 ? sym[4] : 0.0, yz = dim == 3 ? sym[5] : 0.0;
     out[0] = xx - p;
-    out[1] = xy;
-    out[2] = xz;
-    out[3] = yy - p;
+    out[1] = yy - p;
+    out[2] = zz - p;
+    out[3] = xy;
     out[4] = yz;
-    out[5] = zz - p;
+    out[5] = xz;
     *vm = sqrt(1.5 * (xx * xx + yy * yy + zz * zz + 2.0 * (xy * xy + xz * xz + yz * yz)));
 }
 
@@ -523,6 +527,7 @@ int solver_read_fields(struct solver *s, struct host_fields *o)
     double *temperature = read_reals(s, FIELD_TEMPERATURE, 1);
     int *id = read_ints(s, FIELD_ID), *flags = read_ints(s, FIELD_FLAGS);
     int *mat = read_ints(s, FIELD_MATERIAL);
+    double *mass = read_reals(s, FIELD_MASS, 1);
     allocate_fields(o, s->n_real);
     for (int k = 0; k < s->n; ++k) {
         const int q = id[k]; /* back to the scene's particle order */
@@ -540,10 +545,15 @@ int solver_read_fields(struct solver *s, struct host_fields *o)
         o->temperature[q] = temperature[k];
         o->flags[q] = flags[k];
         o->material[q] = mat[k];
+        o->mass[q] = mass[k];
+        o->id[q] = q;
+        /* graded lattices: a level-l particle's own h is 2^l times the fine one */
+        o->smoothing_length[q] =
+            s->run.h * (double)(1 << ((flags[k] >> SPH_LEVEL_SHIFT) & SPH_LEVEL_MASK));
         stress_to_tensor6(&dev[(size_t)k * sw], s->dim, p[k], &o->stress[6 * q], &o->von_mises[q]);
     }
     free(pos), free(pos0), free(vel), free(rho), free(p), free(e), free(ep), free(dev);
-    free(temperature);
+    free(temperature), free(mass);
     free(id), free(flags), free(mat);
     return 0;
 }
@@ -552,6 +562,6 @@ void host_fields_free(struct host_fields *f)
 {
     free(f->pos), free(f->vel), free(f->disp), free(f->stress), free(f->rho), free(f->pressure);
     free(f->energy), free(f->plastic_strain), free(f->von_mises), free(f->flags), free(f->material);
-    free(f->temperature);
+    free(f->temperature), free(f->mass), free(f->smoothing_length), free(f->id);
     memset(f, 0, sizeof *f);
 }

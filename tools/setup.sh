@@ -12,6 +12,8 @@ MODE=${1:-run}
 PACKAGES="build-essential cmake pkg-config ocl-icd-opencl-dev opencl-c-headers \
 pocl-opencl-icd clinfo libyaml-dev libhdf5-dev libcmocka-dev clang-format \
 python3 python3-numpy python3-h5py python3-matplotlib python3-yaml python3-scipy"
+# The tests also open a run as ParaView does (tests/check_paraview.py).
+TEST_PACKAGES="python3-paraview"
 
 case "$MODE" in
 run | test | build) ;;
@@ -21,6 +23,7 @@ run | test | build) ;;
     ;;
 esac
 
+[ "$MODE" = test ] && PACKAGES="$PACKAGES $TEST_PACKAGES"
 missing=""
 for p in $PACKAGES; do
     if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
