@@ -9,6 +9,11 @@
 #include "launch.h"
 #include "solver.h"
 
+static double dot3(const double a[3], const double b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
 static cl_mem create_real_buffer(struct solver *s, size_t count, char *error, size_t error_size)
 {
     cl_int err = CL_SUCCESS;
@@ -64,47 +69,83 @@ static void model_factors(struct solver *s, const struct sph_case *c, struct pro
     p->momentum_scale = multiplicity; /* the reduction already applies the thickness */
 }
 
-/* The target's face along the impact axis u: the smallest x . u of any
- * particle less half its spacing, m. */
-static double target_surface(const struct sph_case *c, const struct sph_scene *scene,
-                             const double axis[3])
+static double particle_spacing(const struct sph_case *c, const struct sph_scene *scene, int i)
 {
-    double surface = HUGE_VAL;
+    const int level = (scene->flags[i] >> SPH_LEVEL_SHIFT) & SPH_LEVEL_MASK;
+    return c->numerics.dx * (1 << level);
+}
+
+/* Where the shot line origin + s u enters and leaves the target, m along
+ * u: over the particles whose centre lies within one own spacing of the
+ * line, the smallest x . u less half a spacing and the largest plus half a
+ * spacing. The extreme particle of the whole target is not the face the
+ * sphere meets once the shot is oblique or the face is not flat. Entry is
+ * HUGE_VAL and exit -HUGE_VAL when the line misses the target. */
+static void shot_line_faces(const struct sph_case *c, const struct sph_scene *scene,
+                            const double origin[3], const double axis[3], double *entry,
+                            double *exit)
+{
+    *entry = HUGE_VAL, *exit = -HUGE_VAL;
     for (int i = 0; i < scene->count; ++i) {
-        const int level = (scene->flags[i] >> SPH_LEVEL_SHIFT) & SPH_LEVEL_MASK;
-        double along = 0;
+        const double spacing = particle_spacing(c, scene, i);
+        double r[3], along = 0, off2 = 0;
         for (int a = 0; a < 3; ++a)
-            along += scene->position[3 * i + a] * axis[a];
-        surface = fmin(surface, along - 0.5 * c->numerics.dx * (1 << level));
+            r[a] = scene->position[3 * i + a] - origin[a], along += r[a] * axis[a];
+        for (int a = 0; a < 3; ++a)
+            off2 += (r[a] - along * axis[a]) * (r[a] - along * axis[a]);
+        if (off2 > spacing * spacing)
+            continue;
+        const double x_along = along + dot3(origin, axis);
+        *entry = fmin(*entry, x_along - 0.5 * spacing);
+        *exit = fmax(*exit, x_along + 0.5 * spacing);
     }
-    return surface;
 }
 
 static void impact_axis(const struct case_projectile *cp, double axis[3])
 {
-    const double speed =
-        sqrt(cp->velocity[0] * cp->velocity[0] + cp->velocity[1] * cp->velocity[1] +
-             cp->velocity[2] * cp->velocity[2]);
+    const double speed = sqrt(dot3(cp->velocity, cp->velocity));
     for (int a = 0; a < 3; ++a)
         axis[a] = cp->velocity[a] / speed;
 }
 
+/* The contact law (kernels/projectile.cl) pushes on a particle whose centre
+ * is closer to the sphere's than radius + half its spacing: at t = 0 no
+ * particle may be, and the shot line must meet the target. */
 int projectile_check_scene(const struct sph_case *c, const struct sph_scene *scene, char *error,
                            size_t error_size)
 {
     const struct case_projectile *cp = &c->projectile;
     if (!cp->enabled)
         return 0;
-    double axis[3], along = 0;
-    impact_axis(cp, axis);
-    for (int a = 0; a < 3; ++a)
-        along += cp->centre[a] * axis[a];
-    const double radius = 0.5 * cp->diameter, surface = target_surface(c, scene, axis);
-    if (along + radius > surface + 1e-9 * radius) {
+    const double radius = 0.5 * cp->diameter;
+    int worst = -1;
+    double worst_overlap = 1e-9 * radius;
+    for (int i = 0; i < scene->count; ++i) {
+        double d2 = 0;
+        for (int a = 0; a < 3; ++a)
+            d2 += (scene->position[3 * i + a] - cp->centre[a]) *
+                  (scene->position[3 * i + a] - cp->centre[a]);
+        const double overlap = radius + 0.5 * particle_spacing(c, scene, i) - sqrt(d2);
+        if (overlap > worst_overlap)
+            worst_overlap = overlap, worst = i;
+    }
+    if (worst >= 0) {
+        const double *x = &scene->position[3 * worst];
         snprintf(error, error_size,
-                 "%s: projectile.centre: the sphere overlaps the target at t = 0 (its nose is "
-                 "%.4g m past the target's face along the impact axis); move it back",
-                 c->path, along + radius - surface);
+                 "%s: projectile.centre: the sphere overlaps the target at t = 0 (the particle at "
+                 "[%.6g, %.6g, %.6g] m is %.4g m inside its surface plus half a spacing); move it "
+                 "back along the shot",
+                 c->path, x[0], x[1], x[2], worst_overlap);
+        return 1;
+    }
+    double axis[3], entry, exit;
+    impact_axis(cp, axis);
+    shot_line_faces(c, scene, cp->centre, axis, &entry, &exit);
+    if (!(entry < HUGE_VAL) || exit < dot3(cp->centre, axis)) {
+        snprintf(error, error_size,
+                 "%s: projectile: the shot line from projectile.centre along projectile.velocity "
+                 "meets no particle of the target ahead of the sphere",
+                 c->path);
         return 1;
     }
     return 0;
@@ -129,7 +170,7 @@ int solver_projectile_create(struct solver *s, const struct sph_case *c,
     for (int a = 0; a < 3; ++a)
         p->origin[a] = cp->centre[a];
     model_factors(s, c, p);
-    p->surface = target_surface(c, scene, p->axis);
+    shot_line_faces(c, scene, p->origin, p->axis, &p->surface, &p->exit_face);
     p->probe_spacing = cp->cavity_probe_spacing;
     p->probe_count = cp->cavity_probe_count;
     p->state = create_real_buffer(s, SPH_PROJ_SLOTS, error, error_size);
@@ -222,6 +263,14 @@ void solver_projectile_read(struct solver *s, struct projectile_reading *out)
     out->contacts = (int)state[SPH_PROJ_CONTACTS];
     out->penetration = along + p->radius - p->surface;
     out->speed_along_axis = speed;
+    double off2 = 0;
+    for (int a = 0; a < 3; ++a) {
+        const double r = out->position[a] - p->origin[a];
+        const double off = r - (along - dot3(p->origin, p->axis)) * p->axis[a];
+        off2 += off * off;
+    }
+    out->lateral_deflection = sqrt(off2);
+    out->through = along - p->radius > p->exit_face;
     read_cavity(s, out);
 }
 

@@ -6,6 +6,8 @@
 #include "bench.h"
 #include "device.h"
 #include "run.h"
+#include "scene.h"
+#include "solver.h"
 #include "sph_case.h"
 
 static const char *const usage_main =
@@ -192,13 +194,19 @@ static int command_check(int argc, char **argv)
     struct sph_case *c = calloc(1, sizeof *c);
     char error[SPH_ERROR_MAX];
     int code = 0;
-    if (case_load(o.case_path, o.set_count, o.sets, c, error, sizeof error)) {
+    struct sph_scene scene = {0};
+    /* the scene too: what `sph run` refuses before it opens a device
+     * (a projectile overlapping the target, a shot that misses it) */
+    if (case_load(o.case_path, o.set_count, o.sets, c, error, sizeof error) ||
+        scene_build(c, &scene, error, sizeof error) ||
+        projectile_check_scene(c, &scene, error, sizeof error)) {
         fprintf(stderr, "sph: %s\n", error);
         code = 1;
     } else {
         case_write_resolved(c, stdout);
-        fprintf(stderr, "sph: %s is valid\n", o.case_path);
+        fprintf(stderr, "sph: %s is valid (%d particles)\n", o.case_path, scene.count);
     }
+    scene_free(&scene);
     free(c);
     return code;
 }

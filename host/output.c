@@ -103,7 +103,7 @@ int output_ballistics_open(struct output *o, const struct projectile *p, char *e
             "time_s,penetration_m,velocity_m_per_s,decelerating_force_N,contact_particles,"
             "system_momentum_kg_m_per_s,projectile_kinetic_energy_J,contact_energy_J,"
             "contact_dissipated_J,"
-            "centre_x_m,centre_y_m,centre_z_m");
+            "centre_x_m,centre_y_m,centre_z_m,lateral_deflection_m");
     for (int pass = 0; pass < 2; ++pass)
         for (int k = 0; k < p->probe_count; ++k)
             fprintf(o->ballistics, ",cavity_%s_m_at_%.4gum", pass ? "d2" : "d1",
@@ -120,10 +120,10 @@ void output_ballistics(struct output *o, const struct ballistics_row *r)
         force += p->force[a] * p->velocity[a];
     const double speed = sqrt(p->velocity[0] * p->velocity[0] + p->velocity[1] * p->velocity[1] +
                               p->velocity[2] * p->velocity[2]);
-    fprintf(o->ballistics, "%.9e,%.9e,%.9e,%.6e,%d,%.9e,%.9e,%.6e,%.6e,%.9e,%.9e,%.9e", r->time,
-            p->penetration, p->speed_along_axis, speed > 0 ? -force / speed : 0.0, p->contacts,
-            r->system_momentum, r->projectile_kinetic, p->contact_energy, p->dissipated,
-            p->position[0], p->position[1], p->position[2]);
+    fprintf(o->ballistics, "%.9e,%.9e,%.9e,%.6e,%d,%.9e,%.9e,%.6e,%.6e,%.9e,%.9e,%.9e,%.6e",
+            r->time, p->penetration, p->speed_along_axis, speed > 0 ? -force / speed : 0.0,
+            p->contacts, r->system_momentum, r->projectile_kinetic, p->contact_energy,
+            p->dissipated, p->position[0], p->position[1], p->position[2], p->lateral_deflection);
     for (int k = 0; k < o->cavity_probes; ++k)
         fprintf(o->ballistics, ",%.6e", p->cavity_d1[k]);
     for (int k = 0; k < o->cavity_probes; ++k)
@@ -562,6 +562,13 @@ int output_summary(struct output *o, const struct run_summary *s)
         json_number(f, "max_damaged_diameter_m", s->max_damaged_diameter_m, 0);
         json_number(f, "momentum_error", s->momentum_error, 0);
         json_number(f, "damaged_fraction", s->damaged_fraction, 0);
+        json_number(f, "max_lateral_deflection_m", s->max_lateral_deflection_m, 0);
+        json_number(f, "final_lateral_deflection_m", s->final_lateral_deflection_m, 0);
+        fprintf(f, "  \"perforated\": %s,\n", s->exit_time_s >= 0 ? "true" : "false");
+        if (s->exit_time_s >= 0) {
+            json_number(f, "exit_time_s", s->exit_time_s, 0);
+            json_number(f, "residual_velocity_m_per_s", s->final_projectile_velocity_m_per_s, 0);
+        }
         if (s->left_fine_region_time_s >= 0)
             json_number(f, "nose_left_fine_region_time_s", s->left_fine_region_time_s, 0);
     }

@@ -97,6 +97,8 @@ struct run_summary {
     double momentum_error; /* largest |p(t) - p(0)| / |p(0)| along the impact axis */
     double damaged_fraction;
     double left_fine_region_time_s; /* nose first in a graded body's coarse shells; < 0 never */
+    double max_lateral_deflection_m, final_lateral_deflection_m; /* off the shot line */
+    double exit_time_s; /* the sphere first through the target (perforated); < 0 never */
 };
 
 /* Creates the folder (and parents), writes case.resolved.yaml and opens

@@ -28,6 +28,8 @@ struct ballistics_track {
     double max_d1, max_d2, momentum_error;
     double damaged_fraction; /* largest over the snapshots */
     double left_fine_time;   /* s: first row with the nose in a graded body's coarse shells; < 0 */
+    double max_lateral, final_lateral; /* centre's distance from the shot line, m */
+    double exit_time;                  /* s: first row with the sphere through the target; < 0 */
 };
 
 /* Everything the loop carries from step to step. */
@@ -173,6 +175,21 @@ static void watch_fine_region(struct loop *L, const struct projectile_reading *p
                 L->t, p->penetration);
 }
 
+/* The first row with the whole sphere past the target's initial exit face
+ * on its track: it perforated, and its speed from then on is the residual
+ * velocity. */
+static void watch_perforation(struct loop *L, const struct projectile_reading *p)
+{
+    if (L->ballistics.exit_time >= 0 || !p->through)
+        return;
+    L->ballistics.exit_time = L->t;
+    if (!L->opt->quiet)
+        fprintf(stderr,
+                "\nsph: at t = %.6e s the sphere is through the target (perforated) at "
+                "%.6g m/s\n",
+                L->t, p->speed_along_axis);
+}
+
 /* The projectile's row of ballistics.csv and its running extremes. */
 static void track_projectile(struct loop *L)
 {
@@ -197,6 +214,9 @@ static void track_projectile(struct loop *L)
         b->time_of_max = L->t;
     }
     b->final_penetration = row.p.penetration;
+    b->max_lateral = fmax(b->max_lateral, row.p.lateral_deflection);
+    b->final_lateral = row.p.lateral_deflection;
+    watch_perforation(L, &row.p);
     watch_fine_region(L, &row.p);
     b->final_velocity = row.p.speed_along_axis;
     for (int k = 0; k < p->probe_count; ++k) {
@@ -477,6 +497,9 @@ static void finish_summary(struct loop *L, struct run_summary *sum)
     sum->max_cavity_diameter_m = b->max_d1;
     sum->max_damaged_diameter_m = b->max_d2;
     sum->left_fine_region_time_s = b->left_fine_time;
+    sum->max_lateral_deflection_m = b->max_lateral;
+    sum->final_lateral_deflection_m = b->final_lateral;
+    sum->exit_time_s = b->exit_time;
     sum->momentum_error = b->momentum_error;
     sum->damaged_fraction = b->damaged_fraction;
 }
@@ -503,6 +526,12 @@ static void print_summary_line(const struct run_summary *sum, const char *folder
             printf("final error %.2f%%", 100 * sum->reference_error_final);
         }
     }
+    if (sum->has_projectile && sum->exit_time_s >= 0)
+        printf(" | perforated at %.4g s, residual velocity %.4g m/s", sum->exit_time_s,
+               sum->final_projectile_velocity_m_per_s);
+    else if (sum->has_projectile)
+        printf(" | P_max %.4g um at %.4g ns", 1e6 * sum->max_penetration_m,
+               1e9 * sum->time_of_max_penetration_s);
     printf(" | %d particles, %ld steps, %.1f s wall, %.0f steps/s | %s\n", sum->particles,
            sum->steps, sum->wall_time_s, sum->steps_per_s, folder);
 }
@@ -605,6 +634,7 @@ static int start(struct loop *L, char *error, size_t size)
     L->min_pair_distance = HUGE_VAL;
     L->first_unhealthy_time = -1;
     L->ballistics.left_fine_time = -1;
+    L->ballistics.exit_time = -1;
     L->initial_neighbours = malloc(sizeof(int) * (size_t)L->s->n_real);
     L->neighbours = malloc(sizeof(int) * (size_t)L->s->n_real);
     L->damaged = calloc((size_t)L->s->n_real, 1);

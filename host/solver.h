@@ -118,7 +118,8 @@ struct projectile {
     double mask[3];          /* 0 for components normal to a symmetry plane */
     double axis[3];          /* unit impact direction (initial velocity) */
     double origin[3];        /* initial centre: the track is origin + s axis */
-    double surface;          /* the target's face along axis: min of x.axis - dx_i/2, m */
+    double surface;          /* where the track enters the target: x.axis of its face, m */
+    double exit_face;        /* where it leaves the target's initial shape, m along axis */
     double momentum_scale;   /* particle momentum sums to whole-model momentum */
     double probe_spacing;
     int probe_count;
@@ -130,8 +131,10 @@ struct projectile_reading {
     double contact_energy;                     /* J */
     double dissipated;                         /* work of the contact dampers so far, J */
     int contacts;
-    double penetration;      /* nose depth below the surface along the axis, m */
-    double speed_along_axis; /* m/s, positive into the target */
+    double penetration;        /* nose depth below the surface along the axis, m */
+    double speed_along_axis;   /* m/s, positive into the target */
+    double lateral_deflection; /* centre's distance from the initial shot line, m */
+    int through; /* the whole sphere is past the target's initial exit face on the track */
     double cavity_d1[SPH_MAX_CAVITY_PROBES], cavity_d2[SPH_MAX_CAVITY_PROBES]; /* m */
 };
 
