@@ -8,7 +8,7 @@ SEBS gel), each one command, tables and plots under results/penetration/.
   tools/penetration_study.py convergence --case gelatin [--n 6 8 10 12 16]
   tools/penetration_study.py domain     --case gelatin [--n N]   1x and 2x target
   tools/penetration_study.py grading    --case gelatin [--n N]   graded vs uniform lattice
-  common: [--results DIR] [--set key=value ...] [--quick]
+  common: [--results DIR] [--set key=value ...]
 
 Every run is cases/gelatin_silica.yaml or cases/sebs_steel.yaml with the
 scene scaled to the sphere (in units of its diameter d: target 16 d in
