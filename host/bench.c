@@ -44,6 +44,10 @@ static const struct bench_scene {
      {"numerics.dx=7.55e-5", "numerics.h_over_dx=1.2"},
      TIER_LARGE},
     {"gelatin-axi", "cases/gelatin_silica.yaml", {NULL}, TIER_QUICK | TIER_STANDARD},
+    /* the 3-D penetration users run: a graded quarter target with a rigid
+     * sphere (the plain neighbour loop: graded lattices take it) */
+    {"gelatin3d-120k", "cases/gelatin_silica_3d.yaml", {NULL}, TIER_STANDARD},
+    {"gelatin3d-1m", "cases/gelatin_silica_3d.yaml", {"numerics.dx=0.35e-6"}, TIER_LARGE},
     {"beam2d-1k", "cases/beam_2d.yaml", {NULL}, TIER_QUICK},
     {"beam2d-16k", "cases/beam_2d.yaml", {"numerics.dx=0.25e-3"}, TIER_STANDARD},
 };

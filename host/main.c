@@ -60,7 +60,7 @@ static const char *const usage_bench =
     "measured ceilings, cached in the user cache folder).\n"
     "\n"
     "  --quick      small sizes only: a smoke test that runs in well under a minute\n"
-    "  --large      add the large sizes (3-D Taylor bar at 1M particles; for GPUs)\n"
+    "  --large      add the large sizes (3-D Taylor bar and 3-D penetration at 1M particles)\n"
     "  --only NAME  the scenes whose name contains NAME (e.g. taylor3d-200k)\n"
     "  --json FILE  write every figure as JSON (tools/bench_plot.py plots it)\n"
     "  --set K=V    override a case key in every scene, e.g. to compare\n"
@@ -68,6 +68,7 @@ static const char *const usage_bench =
     "\n"
     "Suite: taylor3d-10k (quick), taylor3d-50k, taylor3d-200k, taylor3d-1m (large):\n"
     "cases/taylor_3d_4340.yaml at h = 1.2 dx; gelatin-axi: cases/gelatin_silica.yaml;\n"
+    "gelatin3d-120k, gelatin3d-1m (large): cases/gelatin_silica_3d.yaml;\n"
     "beam2d-1k (quick), beam2d-16k: cases/beam_2d.yaml.\n";
 
 /* Parses a positive integer option value; prints the problem and returns 0

@@ -204,7 +204,11 @@ static void track_projectile(struct loop *L)
     }
     row.projectile_kinetic = 0.5 * p->mass * speed2;
     row.system_momentum = p->momentum_scale * target + p->mass * row.p.speed_along_axis;
-    b->energy = row.projectile_kinetic + row.p.contact_energy + row.p.dissipated;
+    /* the particle sums are the modelled part's (a quarter with two symmetry
+     * planes), the sphere's figures the whole sphere's: the ledger takes
+     * the sphere's share of the model */
+    b->energy =
+        (row.projectile_kinetic + row.p.contact_energy + row.p.dissipated) / p->momentum_scale;
     if (L->step == 0)
         b->momentum0 = row.system_momentum;
     b->momentum_error =
