@@ -412,24 +412,36 @@ static void xdmf_series(FILE *x, const struct output *o, const char *name, enum 
     fprintf(x, "    </Grid>\n");
 }
 
-static int write_xdmf(const struct output *o)
+/* One XDMF index, written to a temporary name and renamed. The particles
+ * and the rigid bodies are separate files: in one file ParaView reads them
+ * as blocks of one data set, and a field only the particles carry is then
+ * not drawn in colour at all (ParaView 5.11). */
+static int write_xdmf_file(const struct output *o, const char *name, int bodies)
 {
     char path[SPH_PATH_MAX + 64], tmp[SPH_PATH_MAX + 64];
-    snprintf(path, sizeof path, "%s/snapshots.xdmf", o->folder);
-    snprintf(tmp, sizeof tmp, "%s/.snapshots.xdmf.tmp", o->folder);
+    snprintf(path, sizeof path, "%s/%s", o->folder, name);
+    snprintf(tmp, sizeof tmp, "%s/.%s.tmp", o->folder, name);
     FILE *x = fopen(tmp, "w");
     if (!x)
         return 1;
     fprintf(x, "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n  <Domain>\n");
-    xdmf_series(x, o, "particles", SERIES_PARTICLES);
-    if (o->projectile_radius > 0)
+    if (!bodies)
+        xdmf_series(x, o, "particles", SERIES_PARTICLES);
+    if (bodies && o->projectile_radius > 0)
         xdmf_series(x, o, "projectile", SERIES_PROJECTILE);
-    if (o->wall_count > 0)
+    if (bodies && o->wall_count > 0)
         xdmf_series(x, o, "walls", SERIES_WALLS);
     fprintf(x, "  </Domain>\n</Xdmf>\n");
     if (fclose(x) != 0)
         return 1;
     return rename(tmp, path) != 0;
+}
+
+static int write_xdmf(const struct output *o)
+{
+    const int bodies = o->projectile_radius > 0 || o->wall_count > 0;
+    return write_xdmf_file(o, "snapshots.xdmf", 0) |
+           (bodies ? write_xdmf_file(o, "bodies.xdmf", 1) : 0);
 }
 
 /* Where each wall is drawn: the plane's point nearest the centre of the
@@ -470,7 +482,7 @@ int output_snapshot(struct output *o, const struct host_fields *f, const struct 
     }
     o->snapshot_times[o->snapshot_count++] = meta->time;
     if (write_xdmf(o) != 0) {
-        snprintf(error, error_size, "cannot write %s/snapshots.xdmf: %s", o->folder,
+        snprintf(error, error_size, "cannot write %s/snapshots.xdmf or bodies.xdmf: %s", o->folder,
                  strerror(errno));
         return 1;
     }
