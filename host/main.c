@@ -68,7 +68,8 @@ static const char *const usage_bench =
     "\n"
     "Suite: taylor3d-10k (quick), taylor3d-50k, taylor3d-200k, taylor3d-1m (large):\n"
     "cases/taylor_3d_4340.yaml at h = 1.2 dx; gelatin-axi: cases/gelatin_silica.yaml;\n"
-    "gelatin3d-120k, gelatin3d-1m (large): cases/gelatin_silica_3d.yaml;\n"
+    "gelatin3d-120k, gelatin3d-1m (large), gelatin3d-10m (only as --only gelatin3d-10m):\n"
+    "cases/gelatin_silica_3d.yaml;\n"
     "beam2d-1k (quick), beam2d-16k: cases/beam_2d.yaml.\n";
 
 /* Parses a positive integer option value; prints the problem and returns 0
