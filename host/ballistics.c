@@ -42,7 +42,7 @@ static void read_reals(struct solver *s, cl_mem m, size_t count, double *out)
                                      NULL, NULL));
         return;
     }
-    float *tmp = malloc(count * sizeof(float));
+    float *tmp = calloc(count, sizeof(float));
     CL_CHECK(clEnqueueReadBuffer(s->dev->queue, m, CL_TRUE, 0, count * sizeof(float), tmp, 0, NULL,
                                  NULL));
     for (size_t k = 0; k < count; ++k)
@@ -230,7 +230,7 @@ static void read_cavity(struct solver *s, struct projectile_reading *out)
     solver_launch(s, s->k.projectile_cavity, (size_t)s->reduce_groups * REDUCE_GROUP_SIZE,
                   REDUCE_GROUP_SIZE);
     const size_t width = 2 * SPH_MAX_CAVITY_PROBES;
-    double *v = malloc(sizeof(double) * width * (size_t)s->reduce_groups);
+    double *v = calloc(width * (size_t)s->reduce_groups, sizeof(double));
     read_reals(s, s->partials, width * (size_t)s->reduce_groups, v);
     for (int k = 0; k < SPH_MAX_CAVITY_PROBES; ++k) {
         double empty = HUGE_VAL, damaged = 0;
@@ -248,7 +248,7 @@ void solver_projectile_read(struct solver *s, struct projectile_reading *out)
 {
     struct projectile *p = &s->projectile;
     memset(out, 0, sizeof *out);
-    double state[SPH_PROJ_SLOTS];
+    double state[SPH_PROJ_SLOTS] = {0};
     read_reals(s, p->state, SPH_PROJ_SLOTS, state);
     double along = 0, speed = 0;
     for (int a = 0; a < 3; ++a) {
@@ -276,7 +276,7 @@ void solver_projectile_read(struct solver *s, struct projectile_reading *out)
 
 void solver_projectile_motion(struct solver *s, double centre[3], double velocity[3])
 {
-    double state[SPH_PROJ_SLOTS];
+    double state[SPH_PROJ_SLOTS] = {0};
     read_reals(s, s->projectile.state, SPH_PROJ_SLOTS, state);
     for (int a = 0; a < 3; ++a)
         centre[a] = state[SPH_PROJ_X + a], velocity[a] = state[SPH_PROJ_V + a];

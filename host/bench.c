@@ -178,6 +178,8 @@ static int run_scene(struct sph_device *dev, const struct bench_scene *b,
         fprintf(stderr, "sph bench: %s: %d particles, %d slots allocated, %d-D ...\n", b->name,
                 s.n_real, s.capacity, c->dimension);
         failed = step_scene(&s, c, o, r, error, error_size);
+        if (cl_failed() && snprintf(error, error_size, "%s", cl_failure()) > 0)
+            failed = 1;
         r->ghosts = s.n - s.n_real; /* the mirror images of the last sort */
         solver_release(&s);
     }

@@ -67,11 +67,41 @@ const char *cl_error_name(cl_int code)
     }
 }
 
+static struct {
+    int failed;
+    char message[512];
+    long calls, fail_at; /* checked calls so far; SPH_FAIL_CL_CALL (0: none) */
+    int fail_at_read;
+} cl_status;
+
 void cl_fail(const char *call, cl_int code, const char *file, int line)
 {
-    fprintf(stderr, "sph: OpenCL call %s failed with %s (%d) at %s:%d\n", call, cl_error_name(code),
-            (int)code, file, line);
-    exit(2);
+    if (cl_status.failed)
+        return;
+    cl_status.failed = 1;
+    snprintf(cl_status.message, sizeof cl_status.message,
+             "OpenCL call %.300s failed with %s (%d) at %s:%d", call, cl_error_name(code),
+             (int)code, file, line);
+}
+
+int cl_failed(void)
+{
+    return cl_status.failed;
+}
+
+const char *cl_failure(void)
+{
+    return cl_status.message;
+}
+
+cl_int cl_checked(cl_int code)
+{
+    if (!cl_status.fail_at_read) {
+        const char *env = getenv("SPH_FAIL_CL_CALL");
+        cl_status.fail_at = env ? atol(env) : 0;
+        cl_status.fail_at_read = 1;
+    }
+    return ++cl_status.calls == cl_status.fail_at ? CL_OUT_OF_RESOURCES : code;
 }
 
 const char *device_source_dir(void)
@@ -117,7 +147,7 @@ static int enumerate(struct device_entry *out, int capacity)
         err = clGetDeviceIDs(platforms[p], CL_DEVICE_TYPE_ALL, 32, devices, &n);
         if (err == CL_DEVICE_NOT_FOUND)
             continue;
-        CL_CHECK(err);
+        CL_CHECK_ERR("clGetDeviceIDs", err);
         if (n > 32)
             n = 32; /* clGetDeviceIDs reports the total, not what it wrote */
         for (cl_uint d = 0; d < n && count < capacity; ++d) {
@@ -133,12 +163,14 @@ int device_list(FILE *out)
 {
     struct device_entry entries[64];
     const int count = enumerate(entries, 64);
+    if (cl_failed())
+        return 0;
     if (count == 0) {
         fprintf(out, "no OpenCL devices found (install an ICD, e.g. pocl-opencl-icd)\n");
         return 0;
     }
     for (int i = 0; i < count; ++i) {
-        char name[256], platform[256], version[128], driver[128];
+        char name[256] = "", platform[256] = "", version[128] = "", driver[128] = "";
         cl_uint units = 0;
         cl_ulong memory = 0, alloc = 0;
         device_string(entries[i].device, CL_DEVICE_NAME, name, sizeof name);
@@ -229,6 +261,10 @@ int device_open(const char *selector, int profiling, struct sph_device *dev, cha
     dev->queue = clCreateCommandQueue(dev->context, dev->device,
                                       profiling ? CL_QUEUE_PROFILING_ENABLE : 0, &err);
     CL_CHECK_ERR("clCreateCommandQueue", err);
+    if (cl_failed()) {
+        snprintf(error, error_size, "%s", cl_failure());
+        return 1;
+    }
     return 0;
 }
 
@@ -425,6 +461,11 @@ int device_build(struct sph_device *dev, const char *source_dir, const char *opt
         const char *sources[1] = {source};
         dev->program = clCreateProgramWithSource(dev->context, 1, sources, NULL, &err);
         CL_CHECK_ERR("clCreateProgramWithSource", err);
+        if (cl_failed()) {
+            snprintf(error, error_size, "%s", cl_failure());
+            free(source);
+            return 1;
+        }
         err = clBuildProgram(dev->program, 1, &dev->device, options, NULL, NULL);
         if (err != CL_SUCCESS) {
             print_build_log(dev, dev->program, options);

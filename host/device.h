@@ -29,23 +29,37 @@ struct sph_device {
 /* Name of an OpenCL error code, e.g. "CL_OUT_OF_RESOURCES". */
 const char *cl_error_name(cl_int code);
 
-/* Prints "OpenCL call <text> failed with <name> (<code>) at <file>:<line>"
- * and exits with status 2: a failing OpenCL call leaves no state worth
- * continuing from. */
+/* A failed OpenCL call does not exit: the first failure of the process is
+ * recorded ("OpenCL call <text> failed with <name> (<code>) at
+ * <file>:<line>"; the caller that unwinds prints it) and from then on every checked
+ * call is skipped, so no call runs on the objects a failure left behind.
+ * The callers unwind: device_open, device_build and solver_create return
+ * the message, the run loop (host/run.c) checks cl_failed() after every
+ * step and output, stops, cleans up in reverse order, writes summary.json
+ * with status "device_error" and exits 2. Reads that were skipped leave
+ * their (zeroed) destination untouched.
+ * SPH_FAIL_CL_CALL=N makes the N-th checked call report
+ * CL_OUT_OF_RESOURCES (fault injection for the tests). */
 void cl_fail(const char *call, cl_int code, const char *file, int line);
+int cl_failed(void);
+const char *cl_failure(void);   /* the recorded message, "" before any failure */
+cl_int cl_checked(cl_int code); /* code, or the injected fault */
 
 #define CL_CHECK(call)                                                                             \
     do {                                                                                           \
-        cl_int cl_check_code_ = (call);                                                            \
-        if (cl_check_code_ != CL_SUCCESS)                                                          \
-            cl_fail(#call, cl_check_code_, __FILE__, __LINE__);                                    \
+        if (!cl_failed()) {                                                                        \
+            cl_int cl_check_code_ = cl_checked(call);                                              \
+            if (cl_check_code_ != CL_SUCCESS)                                                      \
+                cl_fail(#call, cl_check_code_, __FILE__, __LINE__);                                \
+        }                                                                                          \
     } while (0)
 
 /* For calls that return an object and report through an errcode pointer. */
 #define CL_CHECK_ERR(expr, err_var)                                                                \
     do {                                                                                           \
-        if ((err_var) != CL_SUCCESS)                                                               \
-            cl_fail(expr, (err_var), __FILE__, __LINE__);                                          \
+        if (!cl_failed() && cl_checked(err_var) != CL_SUCCESS)                                     \
+            cl_fail(expr, (err_var) != CL_SUCCESS ? (err_var) : CL_OUT_OF_RESOURCES, __FILE__,     \
+                    __LINE__);                                                                     \
     } while (0)
 
 /* Lists every platform and device (sph info). Returns the device count. */

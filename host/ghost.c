@@ -199,7 +199,7 @@ static double *real_positions(struct solver *s)
 {
     const int width = s->dim == 2 ? 2 : 4;
     const size_t r = s->element_size[ELEM_REAL], count = (size_t)s->n_real * width;
-    unsigned char *raw = malloc(count * r + 1);
+    unsigned char *raw = calloc(count * r + 1, 1);
     double *x = calloc((size_t)s->n_real * 3 + 1, sizeof(double));
     CL_CHECK(clEnqueueReadBuffer(s->dev->queue, s->field[FIELD_POS], CL_TRUE, 0, count * r, raw, 0,
                                  NULL, NULL));

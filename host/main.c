@@ -255,7 +255,10 @@ int main(int argc, char **argv)
             fputs(usage_info, stdout);
             return 0;
         }
-        return device_list(stdout) > 0 ? 0 : 2;
+        const int devices = device_list(stdout);
+        if (cl_failed())
+            fprintf(stderr, "sph: %s\n", cl_failure());
+        return devices > 0 && !cl_failed() ? 0 : 2;
     }
     fprintf(stderr, "sph: unknown command '%s'\n\n%s", command, usage_main);
     return 1;

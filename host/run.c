@@ -484,7 +484,7 @@ static void finish_summary(struct loop *L, struct run_summary *sum)
     sum->max_clumped_fraction = L->max_clumped;
     sum->max_swegle_fraction = L->max_swegle;
     if (L->first_unhealthy_time < 0 && L->c->numerics.damping == 0 &&
-        sum->energy_drift > L->c->health.energy_error) {
+        sum->energy_drift > L->c->health.energy_error && !cl_failed()) {
         L->first_unhealthy_time = L->t;
         snprintf(L->unhealthy_reason, sizeof L->unhealthy_reason,
                  "energy drift %.3g above %.3g over the run", sum->energy_drift,
@@ -550,11 +550,34 @@ static int timed_output(struct loop *L, int (*write)(struct loop *))
     return result;
 }
 
+/* After an OpenCL failure (host/device.h) the run stops where it is: no
+ * output is written from a device that no longer answers. */
+static int device_failed(struct loop *L)
+{
+    if (!cl_failed())
+        return 0;
+    L->status = "device_error";
+    snprintf(L->message, sizeof L->message, "at step %ld, t = %.6e s: %s", L->step, L->t,
+             cl_failure());
+    return 1;
+}
+
 static int time_loop(struct loop *L)
 {
     const struct case_output *o = &L->c->output;
     while (L->t < L->c->numerics.end_time * (1 - 1e-12)) {
-        if (one_step(L)) {
+        if (device_failed(L))
+            return 2;
+        const struct reduction before = L->red;
+        const double t_before = L->t;
+        const long step_before = L->step;
+        const double probe_before = L->probe;
+        const int stopped = one_step(L);
+        if (device_failed(L)) { /* the summary keeps the last state the device gave */
+            L->red = before, L->t = t_before, L->step = step_before, L->probe = probe_before;
+            return 2;
+        }
+        if (stopped) {
             timed_output(L, write_history);
             timed_output(L, write_snapshot);
             return 3;
@@ -578,9 +601,11 @@ static int time_loop(struct loop *L)
         }
         progress(L, 0);
     }
+    if (device_failed(L))
+        return 2;
     if (L->out->snapshot_times[L->out->snapshot_count - 1] < L->t)
         timed_output(L, write_snapshot);
-    return 0;
+    return device_failed(L) ? 2 : 0;
 }
 
 /* The per-kernel table on stdout and profile.json in the run folder.
@@ -652,6 +677,8 @@ static int start(struct loop *L, char *error, size_t size)
     L->energy_excursion = 0;
     L->next_history = L->c->output.history_interval;
     L->next_snapshot = L->c->output.snapshot_interval;
+    if (cl_failed())
+        return snprintf(error, size, "%s", cl_failure()) > 0;
     if (write_snapshot(L)) {
         snprintf(error, size, "cannot write the first snapshot into %.900s", L->out->folder);
         return 1;
@@ -748,9 +775,20 @@ int run_case(const struct run_options *opt)
         }
         if (code == 3)
             fprintf(stderr, "sph: %s; the last state is in %s\n", L.message, folder);
+        if (code == 2)
+            fprintf(stderr, "sph: stopped %s; what was written before is in %s\n", L.message,
+                    folder);
         print_summary_line(&sum, folder);
     } else {
         fprintf(stderr, "sph: %s\n", error);
+        if (cl_failed() && out.history) { /* the folder exists: say why it stops there */
+            L.status = "device_error";
+            snprintf(L.message, sizeof L.message, "before the first step: %s", cl_failure());
+            struct run_summary sum;
+            finish_summary(&L, &sum);
+            output_summary(&out, &sum);
+            code = 2;
+        }
     }
     free(L.initial_neighbours);
     free(L.neighbours);

@@ -168,6 +168,8 @@ size_t solver_bytes_per_particle(const struct solver *s)
 
 static cl_mem create_buffer(struct solver *s, size_t bytes)
 {
+    if (cl_failed())
+        return NULL;
     cl_int err = CL_SUCCESS;
     cl_mem m = clCreateBuffer(s->dev->context, CL_MEM_READ_WRITE, bytes ? bytes : 16, NULL, &err);
     CL_CHECK_ERR("clCreateBuffer", err);
@@ -455,8 +457,8 @@ void solver_release_buffers(struct solver *s)
 static double *read_reals(struct solver *s, enum field f, int width)
 {
     const size_t r = s->element_size[ELEM_REAL], count = (size_t)s->n * width;
-    unsigned char *raw = malloc(count * r + 1);
-    double *out = malloc(count * sizeof(double) + 1);
+    unsigned char *raw = calloc(count * r + 1, 1);
+    double *out = calloc(count + 1, sizeof(double));
     CL_CHECK(
         clEnqueueReadBuffer(s->dev->queue, s->field[f], CL_TRUE, 0, count * r, raw, 0, NULL, NULL));
     for (size_t k = 0; k < count; ++k) {
@@ -474,7 +476,7 @@ static double *read_reals(struct solver *s, enum field f, int width)
 
 static int *read_ints(struct solver *s, enum field f)
 {
-    int *out = malloc(sizeof(int) * (size_t)s->n + 1);
+    int *out = calloc((size_t)s->n + 1, sizeof(int));
     CL_CHECK(clEnqueueReadBuffer(s->dev->queue, s->field[f], CL_TRUE, 0,
                                  sizeof(cl_int) * (size_t)s->n, out, 0, NULL, NULL));
     return out;

@@ -22,11 +22,14 @@ static size_t round_up(size_t n, size_t m)
 
 static cl_kernel make_kernel(struct solver *s, const char *name)
 {
+    if (cl_failed())
+        return NULL;
     cl_int err = CL_SUCCESS;
     cl_kernel k = clCreateKernel(s->dev->program, name, &err);
-    if (err != CL_SUCCESS) {
-        fprintf(stderr, "sph: kernel '%s' is missing from the program\n", name);
-        cl_fail("clCreateKernel", err, __FILE__, __LINE__);
+    if (cl_checked(err) != CL_SUCCESS) {
+        char call[160];
+        snprintf(call, sizeof call, "clCreateKernel(%s)", name);
+        cl_fail(call, err != CL_SUCCESS ? err : CL_OUT_OF_RESOURCES, __FILE__, __LINE__);
     }
     return k;
 }
@@ -37,14 +40,20 @@ static void launch(struct solver *s, cl_kernel k, size_t global, size_t local)
      * far more per launch on a CPU */
     const size_t l = local ? local : LOCAL_SIZE;
     const size_t g = round_up(global ? global : 1, l);
+    if (cl_failed()) /* the run is unwinding (host/device.h) */
+        return;
     cl_event event = NULL;
-    const cl_int err = clEnqueueNDRangeKernel(s->dev->queue, k, 1, NULL, &g, &l, 0, NULL,
-                                              sph_profiler ? &event : NULL);
+    const cl_int err = cl_checked(clEnqueueNDRangeKernel(s->dev->queue, k, 1, NULL, &g, &l, 0, NULL,
+                                                         sph_profiler ? &event : NULL));
     if (err != CL_SUCCESS) {
         char name[128] = "?";
         clGetKernelInfo(k, CL_KERNEL_FUNCTION_NAME, sizeof name, name, NULL);
-        fprintf(stderr, "sph: launching kernel %s (%zu work-items) failed\n", name, g);
-        cl_fail("clEnqueueNDRangeKernel", err, __FILE__, __LINE__);
+        char call[200];
+        snprintf(call, sizeof call, "clEnqueueNDRangeKernel(%s, %zu work-items)", name, g);
+        cl_fail(call, err, __FILE__, __LINE__);
+        if (event)
+            clReleaseEvent(event);
+        return;
     }
     if (sph_profiler)
         profile_record(k, event);
@@ -170,8 +179,12 @@ int solver_create(struct solver *s, struct sph_device *dev, const struct sph_cas
         return 1;
     solver_upload_constants(s, c);
     create_kernels(s);
-    return solver_ghosts_create(s, error, error_size) ||
-           solver_projectile_create(s, c, scene, error, error_size);
+    if (solver_ghosts_create(s, error, error_size) ||
+        solver_projectile_create(s, c, scene, error, error_size))
+        return 1;
+    if (cl_failed()) /* a buffer, upload or kernel the calls above could not make */
+        return snprintf(error, error_size, "%s", cl_failure()) > 0;
+    return 0;
 }
 
 void solver_release(struct solver *s)
@@ -187,12 +200,12 @@ static void read_bounds(struct solver *s, double lo[3], double hi[3])
     SET_ARGS(s->k.bounds, MEM(s->field[FIELD_POS]), MEM(s->bounds_partials), INT(s->n));
     launch(s, s->k.bounds, (size_t)s->reduce_groups * REDUCE_GROUP_SIZE, REDUCE_GROUP_SIZE);
     const size_t count = 6 * (size_t)s->reduce_groups;
-    double values[6 * 64];
+    double values[6 * 64] = {0};
     if (s->double_precision)
         CL_CHECK(clEnqueueReadBuffer(s->dev->queue, s->bounds_partials, CL_TRUE, 0,
                                      count * sizeof(double), values, 0, NULL, NULL));
     else {
-        float tmp[6 * 64];
+        float tmp[6 * 64] = {0};
         CL_CHECK(clEnqueueReadBuffer(s->dev->queue, s->bounds_partials, CL_TRUE, 0,
                                      count * sizeof(float), tmp, 0, NULL, NULL));
         for (size_t k = 0; k < count; ++k)
@@ -538,7 +551,7 @@ static void read_partials(struct solver *s, size_t count, double *values)
                                      values, 0, NULL, NULL));
         return;
     }
-    float tmp[64 * SPH_RED_SLOTS];
+    float tmp[64 * SPH_RED_SLOTS] = {0};
     CL_CHECK(clEnqueueReadBuffer(s->dev->queue, s->partials, CL_TRUE, 0, count * sizeof(float), tmp,
                                  0, NULL, NULL));
     for (size_t k = 0; k < count; ++k)
@@ -556,7 +569,7 @@ void solver_reduce(struct solver *s, const double load[3], struct reduction *out
              MEM(f[FIELD_HOURGLASS_POWER]), MEM(s->run_params), real4_value(s, &a_load, load),
              MEM(s->partials), INT(s->n));
     launch(s, s->k.reduce, (size_t)s->reduce_groups * REDUCE_GROUP_SIZE, REDUCE_GROUP_SIZE);
-    double values[64 * SPH_RED_SLOTS];
+    double values[64 * SPH_RED_SLOTS] = {0};
     read_partials(s, (size_t)s->reduce_groups * SPH_RED_SLOTS, values);
     combine_partials(s, values, out);
 }
@@ -569,7 +582,7 @@ void solver_health(struct solver *s, struct health_reading *out)
              MEM(s->field[FIELD_STRESS]), MEM(s->field[FIELD_FLAGS]), GRID_ARG_LIST(s, dims),
              MEM(s->run_params), real_value(s, &a_dx, s->dx), MEM(s->partials), INT(s->n));
     launch(s, s->k.health, (size_t)s->reduce_groups * REDUCE_GROUP_SIZE, REDUCE_GROUP_SIZE);
-    double v[64 * SPH_HEALTH_SLOTS];
+    double v[64 * SPH_HEALTH_SLOTS] = {0};
     read_partials(s, (size_t)s->reduce_groups * SPH_HEALTH_SLOTS, v);
     double min_distance = HUGE_VAL, nb_min = HUGE_VAL, nb_max = 0, sums[SPH_HEALTH_SLOTS] = {0};
     for (int g = 0; g < s->reduce_groups; ++g) {
@@ -596,7 +609,7 @@ void solver_neighbour_counts(struct solver *s, int *count_by_id)
              MEM(s->field[FIELD_FLAGS]), GRID_ARG_LIST(s, dims), MEM(s->run_params),
              MEM(s->gather_spare), INT(s->n));
     launch(s, s->k.neighbour_count, (size_t)s->n, 0);
-    int *count = malloc(sizeof(int) * (size_t)s->n), *id = malloc(sizeof(int) * (size_t)s->n);
+    int *count = calloc((size_t)s->n, sizeof(int)), *id = calloc((size_t)s->n, sizeof(int));
     CL_CHECK(clEnqueueReadBuffer(s->dev->queue, s->gather_spare, CL_TRUE, 0,
                                  sizeof(int) * (size_t)s->n, count, 0, NULL, NULL));
     CL_CHECK(clEnqueueReadBuffer(s->dev->queue, s->field[FIELD_ID], CL_TRUE, 0,

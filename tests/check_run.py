@@ -2,7 +2,7 @@
 """Runs `sph` and asserts on its exit status, its messages and summary.json.
 
 usage: check_run.py SPH [sph arguments ...] -- [--exit N] [--stderr TEXT]
-                    [--key NAME MIN MAX] [--file NAME]
+                    [--key NAME MIN MAX] [--text NAME VALUE] [--file NAME]
 """
 import json
 import os
@@ -46,6 +46,16 @@ def main():
             else:
                 print(f"check: {key} = {value:.6g} in [{low:g}, {high:g}]")
             i += 4
+        elif what == "--text":
+            key, expected = checks[i + 1], checks[i + 2]
+            try:
+                with open(os.path.join(out, "summary.json")) as f:
+                    value = json.load(f).get(key)
+            except (OSError, ValueError) as e:
+                value = f"(no readable summary.json: {e})"
+            if value != expected:
+                failures.append(f"summary {key} = {value!r}, expected {expected!r}")
+            i += 3
         else:
             sys.exit(f"check_run: unknown check {what}")
     if proc.returncode != expected_exit:
