@@ -45,7 +45,9 @@ enum flag {
     F_OMIT_ZERO = 4, /* only valid when positive, so 0 means "not given" */
     F_UNIQUE = 8,    /* unique among the items of the list */
     F_ENABLE = 16,   /* K_MAP: set the int at aux to 1 when the map is given */
-    F_CYLINDER = 32  /* a body key of cylinders only: not written for other shapes */
+    F_CYLINDER = 32, /* a body key of cylinders only: not written for other shapes */
+    F_TRACK = 64,    /* a grading key of the track form only */
+    F_BOX = 128      /* a grading key of the box form only */
 };
 enum ref_kind { REF_MATERIAL, REF_BODY, REF_GROUP };
 
@@ -1068,16 +1070,38 @@ static const struct field material_fields[] = {
 };
 
 static const struct field grading_fields[] = {
-    VECTOR("fine_min", struct case_grading, fine.min, F_REQUIRED, 0, "m", NULL),
-    VECTOR("fine_max", struct case_grading, fine.max, F_REQUIRED, 0, "m", NULL),
+    VECTOR("fine_min", struct case_grading, fine.min, F_BOX, 0, "m", NULL),
+    VECTOR("fine_max", struct case_grading, fine.max, F_BOX, 0, "m", NULL),
+    VECTOR("track_from", struct case_grading, track_from, F_TRACK, 0, "m", NULL),
+    VECTOR("track_to", struct case_grading, track_to, F_TRACK, 0, "m", NULL),
+    NUMBER("track_radius", struct case_grading, track_radius, F_OMIT_ZERO, R_POSITIVE, 0, 0, 0,
+           "m"),
     INT("layers", struct case_grading, layers, 0, 2, 1000, 6, NULL),
     INT("levels", struct case_grading, levels, 0, 1, 6, 3, NULL),
 };
+/* The fine region is a box (fine_min, fine_max) or a track (track_from,
+ * track_to, track_radius): one form, all of its keys. */
 static int check_grading(struct ctx *x, const struct frame *fr, void *base)
 {
-    const struct case_box *b = &((struct case_grading *)base)->fine;
-    for (int a = 0; a < x->c->dimension; ++a)
-        if (!(b->max[a] > b->min[a]))
+    const struct case_grading *g = base;
+    if (!g->enabled)
+        return 0;
+    const char *box[] = {"fine_min", "fine_max"}, *track[] = {"track_from", "track_to",
+                                                              "track_radius"};
+    const int is_track = given(fr, track[0]) || given(fr, track[1]) || given(fr, track[2]);
+    const char **keys = is_track ? track : box, **other = is_track ? box : track;
+    for (int k = 0; k < (is_track ? 3 : 2); ++k)
+        if (!given(fr, keys[k]))
+            return fail(x, fr->blame, subkey(x, keys[k]),
+                        "missing: a grading takes fine_min and fine_max (a box) or track_from, "
+                        "track_to and track_radius (a segment)");
+    for (int k = 0; k < (is_track ? 2 : 3); ++k)
+        if (given(fr, other[k]))
+            return fail(x, line_of(fr, other[k]), subkey(x, other[k]),
+                        "a grading takes a box (fine_min, fine_max) or a track (track_from, "
+                        "track_to, track_radius), not both");
+    for (int a = 0; !is_track && a < x->c->dimension; ++a)
+        if (!(g->fine.max[a] > g->fine.min[a]))
             return fail(x, line_of(fr, "fine_max"), subkey(x, "fine_max"),
                         "expected fine_max greater than fine_min on every axis");
     return 0;
@@ -1549,6 +1573,9 @@ static int written(const struct sph_case *c, const struct field *f, const char *
     if ((f->flags & F_OMIT_ZERO) && *(const double *)p == 0)
         return 0;
     if ((f->flags & F_CYLINDER) && ((const struct case_body *)base)->shape != SPH_SHAPE_CYLINDER)
+        return 0;
+    if ((f->flags & (F_TRACK | F_BOX)) &&
+        (((const struct case_grading *)base)->track_radius > 0) != !!(f->flags & F_TRACK))
         return 0;
     if (f->kind == K_REF && *(const int *)p < 0)
         return 0;

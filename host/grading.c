@@ -9,7 +9,16 @@
  * of level k + 1, so the levels tile the body without gaps or overlaps. A
  * particle's level and how many grid cells its neighbour search reaches go
  * into its flags (include/sph_shared.h); kernels/common.cl turns them into
- * the pair's smoothing length and the search. */
+ * the pair's smoothing length and the search.
+ *
+ * The track form (an oblique shot) replaces the boxes by tubes about a
+ * segment: region k is the set of level-(k + 1) cells whose centre lies
+ * within R_k of the segment, R_0 = track_radius and R_k = R_(k-1) +
+ * (layers + sqrt(dim)) 2^k dx, and a level-k cell is filled at level k when
+ * its parent cell is in region k and the cell itself is not in region
+ * k - 1. The radii grow by at least a parent's half-diagonal per level, so
+ * a cell of region k - 1 always has its parent in region k: the levels
+ * nest and tile the body as the boxes do. */
 #include <math.h>
 
 #include "scene.h"
@@ -17,12 +26,26 @@
 #define MAX_LEVELS 7
 
 struct grading_frame {
-    int dim, levels;
+    int dim, levels, track;
     double dx;
+    double from[3], to[3], radius[MAX_LEVELS];   /* the track form: segment and R_k, m */
     double anchor[3];                            /* the body corner the lattices start from */
     double sign[3];                              /* +1 where the body lies above the anchor */
     double lo[MAX_LEVELS][3], hi[MAX_LEVELS][3]; /* box_k in t = sign (x - anchor) >= 0 */
 };
+
+static void make_track(const struct case_grading *gr, struct grading_frame *g)
+{
+    g->track = 1;
+    for (int a = 0; a < 3; ++a)
+        g->from[a] = gr->track_from[a], g->to[a] = gr->track_to[a];
+    double r = gr->track_radius;
+    for (int k = 0; k < g->levels; ++k) {
+        if (k > 0)
+            r += (gr->layers + sqrt((double)g->dim)) * g->dx * (1 << k);
+        g->radius[k] = r;
+    }
+}
 
 static void make_frame(const struct sph_case *c, const struct case_body *b, struct grading_frame *g)
 {
@@ -30,12 +53,17 @@ static void make_frame(const struct sph_case *c, const struct case_body *b, stru
     g->dim = c->dimension;
     g->levels = gr->levels;
     g->dx = c->numerics.dx;
+    g->track = 0;
+    if (gr->track_radius > 0)
+        make_track(gr, g);
     for (int a = 0; a < 3; ++a) {
         g->anchor[a] = 0;
         g->sign[a] = 1;
         if (a >= g->dim)
             continue;
-        const double centre = 0.5 * (gr->fine.min[a] + gr->fine.max[a]);
+        /* the track form anchors at the corner nearest the entry point */
+        const double centre =
+            g->track ? gr->track_from[a] : 0.5 * (gr->fine.min[a] + gr->fine.max[a]);
         const int from_min = fabs(centre - b->box.min[a]) <= fabs(b->box.max[a] - centre);
         g->anchor[a] = from_min ? b->box.min[a] : b->box.max[a];
         g->sign[a] = from_min ? 1.0 : -1.0;
@@ -53,12 +81,40 @@ static void make_frame(const struct sph_case *c, const struct case_body *b, stru
     }
 }
 
+/* Distance from x to the segment from - to, m. */
+static double segment_distance(const double from[3], const double to[3], const double x[3], int dim)
+{
+    double d[3] = {0, 0, 0}, r[3] = {0, 0, 0}, dd = 0, rd = 0;
+    for (int a = 0; a < dim; ++a) {
+        d[a] = to[a] - from[a], r[a] = x[a] - from[a];
+        dd += d[a] * d[a], rd += r[a] * d[a];
+    }
+    const double s = dd > 0 ? fmin(fmax(rd / dd, 0.0), 1.0) : 0.0;
+    double off2 = 0;
+    for (int a = 0; a < dim; ++a)
+        off2 += (r[a] - s * d[a]) * (r[a] - s * d[a]);
+    return sqrt(off2);
+}
+
+/* Track form: whether the level-(k + 1) cell holding frame point t is in
+ * region k (its centre within R_k of the segment). */
+static int in_track_region(const struct grading_frame *g, int k, const double *t)
+{
+    const double cell = g->dx * (1 << (k + 1));
+    double x[3] = {0, 0, 0};
+    for (int a = 0; a < g->dim; ++a)
+        x[a] = g->anchor[a] + g->sign[a] * (floor(t[a] / cell) + 0.5) * cell;
+    return segment_distance(g->from, g->to, x, g->dim) <= g->radius[k];
+}
+
 static int in_level_box(const struct grading_frame *g, int k, const double *t)
 {
     if (k < 0)
         return 0;
     if (k >= g->levels)
         return 1;
+    if (g->track)
+        return in_track_region(g, k, t);
     for (int a = 0; a < g->dim; ++a)
         if (t[a] < g->lo[k][a] || t[a] > g->hi[k][a])
             return 0;
@@ -107,4 +163,17 @@ int grading_fill(const struct sph_case *c, const struct case_body *b, struct sph
                 }
     }
     return added;
+}
+
+int grading_level_at(const struct sph_case *c, const struct case_body *b, const double x[3])
+{
+    struct grading_frame g;
+    make_frame(c, b, &g);
+    double t[3] = {0, 0, 0};
+    for (int a = 0; a < g.dim; ++a)
+        t[a] = g.sign[a] * (x[a] - g.anchor[a]);
+    int k = 0;
+    while (k < g.levels && !in_level_box(&g, k, t))
+        ++k;
+    return k;
 }

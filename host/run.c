@@ -145,12 +145,10 @@ static int in_coarse_shells(const struct sph_case *c, const double x[3])
         const struct case_body *body = &c->bodies[b];
         if (!body->grading.enabled)
             continue;
-        int in_body = 1, in_fine = 1;
-        for (int a = 0; a < c->dimension; ++a) {
+        int in_body = 1;
+        for (int a = 0; a < c->dimension; ++a)
             in_body &= x[a] >= body->box.min[a] && x[a] <= body->box.max[a];
-            in_fine &= x[a] >= body->grading.fine.min[a] && x[a] <= body->grading.fine.max[a];
-        }
-        if (in_body && !in_fine)
+        if (in_body && grading_level_at(c, body, x) > 0)
             return 1;
     }
     return 0;

@@ -107,7 +107,10 @@ struct case_body {
      * which fills the rest of the body. */
     struct case_grading {
         int enabled;
-        struct case_box fine; /* the finest region, m */
+        struct case_box fine; /* the finest region, m (the box form) */
+        /* the track form: the finest region is every point within track_radius
+         * of the segment track_from - track_to (m); the shells follow it */
+        double track_from[3], track_to[3], track_radius;
         int layers;           /* particle layers per shell, default 6 */
         int levels;           /* coarsest level k (spacing 2^k dx), default 3 */
     } grading;
