@@ -1086,8 +1086,8 @@ static int check_grading(struct ctx *x, const struct frame *fr, void *base)
     const struct case_grading *g = base;
     if (!g->enabled)
         return 0;
-    const char *box[] = {"fine_min", "fine_max"}, *track[] = {"track_from", "track_to",
-                                                              "track_radius"};
+    const char *box[] = {"fine_min", "fine_max"},
+               *track[] = {"track_from", "track_to", "track_radius"};
     const int is_track = given(fr, track[0]) || given(fr, track[1]) || given(fr, track[2]);
     const char **keys = is_track ? track : box, **other = is_track ? box : track;
     for (int k = 0; k < (is_track ? 3 : 2); ++k)

@@ -104,7 +104,7 @@ struct kernels {
     cl_kernel tl_correction, tl_deformation, tl_first_piola, tl_momentum;
     cl_kernel health;
     cl_kernel projectile_contact, projectile_advance, projectile_cavity;
-    cl_kernel neighbour_reach; /* graded lattices only */
+    cl_kernel neighbour_reach, cell_max_level, apply_reach; /* graded lattices only */
 };
 
 /* The rigid projectile (host/ballistics.c, kernels/projectile.cl). */
@@ -168,7 +168,8 @@ struct solver {
     cl_mem field[FIELD_COUNT];
     cl_mem gather_spare; /* one field of the largest element: the gather target */
     cl_mem sort_keys, cell_start, cell_end, partials, bounds_partials, materials, run_params;
-    cl_mem walls; /* struct sph_wall[wall_count] (at least one entry's worth) */
+    cl_mem cell_level; /* graded lattices: the coarsest level in each cell */
+    cl_mem walls;      /* struct sph_wall[wall_count] (at least one entry's worth) */
     int wall_count;
     int reduce_groups;
     struct grid grid;

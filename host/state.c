@@ -445,6 +445,7 @@ void solver_release_buffers(struct solver *s)
     release(&s->gather_spare);
     release(&s->sort_keys);
     release(&s->cell_start);
+    release(&s->cell_level);
     release(&s->cell_end);
     release(&s->partials);
     release(&s->bounds_partials);

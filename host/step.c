@@ -95,16 +95,18 @@ static void create_kernels(struct solver *s)
     k->tl_momentum = make_kernel(s, "tl_momentum");
     k->health = make_kernel(s, "health_indicators");
     k->neighbour_reach = s->graded ? make_kernel(s, "grid_neighbour_reach") : NULL;
+    k->cell_max_level = s->graded ? make_kernel(s, "grid_cell_max_level") : NULL;
+    k->apply_reach = s->graded ? make_kernel(s, "grid_apply_reach") : NULL;
 }
 
 static void release_kernels(struct solver *s)
 {
-    cl_kernel *all[] = {&s->k.cell_keys,     &s->k.bitonic_step,   &s->k.fill_int,
-                        &s->k.cell_ranges,   &s->k.bounds,         &s->k.pass1,
-                        &s->k.material,      &s->k.pass2,          &s->k.kick,
-                        &s->k.drift,         &s->k.reduce,         &s->k.neighbour_count,
-                        &s->k.tl_correction, &s->k.tl_deformation, &s->k.tl_first_piola,
-                        &s->k.tl_momentum,   &s->k.health,         &s->k.neighbour_reach};
+    cl_kernel *all[] = {
+        &s->k.cell_keys,     &s->k.bitonic_step,    &s->k.fill_int,       &s->k.cell_ranges,
+        &s->k.bounds,        &s->k.pass1,           &s->k.material,       &s->k.pass2,
+        &s->k.kick,          &s->k.drift,           &s->k.reduce,         &s->k.neighbour_count,
+        &s->k.tl_correction, &s->k.tl_deformation,  &s->k.tl_first_piola, &s->k.tl_momentum,
+        &s->k.health,        &s->k.neighbour_reach, &s->k.cell_max_level, &s->k.apply_reach};
     for (size_t i = 0; i < sizeof all / sizeof all[0]; ++i)
         if (*all[i])
             clReleaseKernel(*all[i]);
@@ -256,6 +258,8 @@ static int layout_grid(struct solver *s, char *error, size_t error_size)
     if (g->cell_count > g->cell_capacity) {
         if (s->cell_start)
             clReleaseMemObject(s->cell_start), clReleaseMemObject(s->cell_end);
+        if (s->cell_level)
+            clReleaseMemObject(s->cell_level), s->cell_level = NULL;
         g->cell_capacity = g->cell_count + g->cell_count / 4;
         cl_int err = CL_SUCCESS;
         s->cell_start = clCreateBuffer(s->dev->context, CL_MEM_READ_WRITE,
@@ -264,6 +268,11 @@ static int layout_grid(struct solver *s, char *error, size_t error_size)
         s->cell_end = clCreateBuffer(s->dev->context, CL_MEM_READ_WRITE,
                                      sizeof(cl_int) * (size_t)g->cell_capacity, NULL, &err);
         CL_CHECK_ERR("clCreateBuffer(cell_end)", err);
+        if (s->graded) {
+            s->cell_level = clCreateBuffer(s->dev->context, CL_MEM_READ_WRITE,
+                                           sizeof(cl_int) * (size_t)g->cell_capacity, NULL, &err);
+            CL_CHECK_ERR("clCreateBuffer(cell_level)", err);
+        }
     }
     return 0;
 }
@@ -340,10 +349,17 @@ int solver_sort(struct solver *s, char *error, size_t error_size)
     if (s->graded) {
         const cl_int4 dims = {{s->grid.dims[0], s->grid.dims[1], s->grid.dims[2], 0}};
         struct real_arg a_skin;
+        const cl_int cells = s->grid.cell_count;
+        SET_ARGS(s->k.cell_max_level, MEM(s->field[FIELD_FLAGS]), MEM(s->cell_start),
+                 MEM(s->cell_end), MEM(s->cell_level), INT(cells));
+        launch(s, s->k.cell_max_level, (size_t)cells, 0);
+        /* the gather spare (free after the gathers) holds the reaches */
         SET_ARGS(s->k.neighbour_reach, MEM(s->field[FIELD_POS]), MEM(s->field[FIELD_FLAGS]),
-                 GRID_ARG_LIST(s, dims), MEM(s->run_params), real_value(s, &a_skin, s->skin),
-                 INT(s->n));
+                 GRID_ARG_LIST(s, dims), MEM(s->cell_level), MEM(s->run_params),
+                 real_value(s, &a_skin, s->skin), MEM(s->gather_spare), INT(s->n));
         launch(s, s->k.neighbour_reach, (size_t)s->n, 0);
+        SET_ARGS(s->k.apply_reach, MEM(s->field[FIELD_FLAGS]), MEM(s->gather_spare), INT(s->n));
+        launch(s, s->k.apply_reach, (size_t)s->n, 0);
     }
     return 0;
 }

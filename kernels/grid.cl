@@ -156,15 +156,41 @@ __kernel void grid_neighbour_list(__global const vec *restrict pos, __global con
  * searches 1.5 supports when one lies within that reach, else one
  * support; plus the skin for motion until the next sort. Recomputed at
  * every sort, since material moves across the levels (a cavity pushes
- * fine particles outwards). reads pos, flags; updates flags. */
+ * fine particles outwards).
+ *
+ * Three passes, so that no work-item reads a flag another one writes:
+ * grid_cell_max_level gives each cell the coarsest level it holds,
+ * grid_neighbour_reach writes each particle's reach to `reach` (looking at
+ * particles only in the cells of its window that hold a coarser level;
+ * most particles, deep inside one level, look at no particle at all), and
+ * grid_apply_reach puts it into the flags. */
 static inline int reach_cells(real h_over_h0, real skin)
 {
     return (int)ceil(SPH_GRID_SPLIT * (h_over_h0 + skin) / ((real)1 + skin) - (real)1e-6);
 }
 
-__kernel void grid_neighbour_reach(__global const vec *restrict pos, __global int *restrict flags,
-                                   GRID_ARGS, __constant const struct sph_run_params *run,
-                                   const real skin, const int n)
+/* reads flags, cell ranges; writes cell_level (-1 for an empty cell) */
+__kernel void grid_cell_max_level(__global const int *restrict flags,
+                                  __global const int *restrict cell_start,
+                                  __global const int *restrict cell_end,
+                                  __global int *restrict cell_level, const int cells)
+{
+    const int c = get_global_id(0);
+    if (c >= cells)
+        return;
+    int level = -1;
+    const int first = cell_start[c], last = cell_end[c];
+    for (int j = first < 0 ? 0 : first; j < last; ++j)
+        level = max(level, (flags[j] >> SPH_LEVEL_SHIFT) & SPH_LEVEL_MASK);
+    cell_level[c] = level;
+}
+
+/* reads pos, flags, cell_level; writes reach */
+__kernel void grid_neighbour_reach(__global const vec *restrict pos,
+                                   __global const int *restrict flags, GRID_ARGS,
+                                   __global const int *restrict cell_level,
+                                   __constant const struct sph_run_params *run, const real skin,
+                                   __global int *restrict reach, const int n)
 {
     const int i = get_global_id(0);
     if (i >= n)
@@ -175,15 +201,39 @@ __kernel void grid_neighbour_reach(__global const vec *restrict pos, __global in
     const int wide = reach_cells((real)1.5 * scale, skin);
     const real limit = (real)1.5 * run->support * scale + skin * run->support;
     const vec xi = pos[i];
+    const int4 home = grid_cell_coords((int)(sort_keys[i] >> 32), grid_dims);
     bool coarser_near = false;
-    FOR_EACH_NEIGHBOUR_WITHIN(i, j, wide)
-    {
-        const vec d = xi - pos[j];
-        coarser_near |=
-            ((flags[j] >> SPH_LEVEL_SHIFT) & SPH_LEVEL_MASK) > level && dot(d, d) < limit * limit;
+    for (int dz = -GRID_DZ * wide; dz <= GRID_DZ * wide && !coarser_near; ++dz) {
+        const int cz = home.z + dz;
+        if (cz < 0 || cz >= grid_dims.z)
+            continue;
+        for (int dy = -wide; dy <= wide && !coarser_near; ++dy) {
+            const int cy = home.y + dy;
+            if (cy < 0 || cy >= grid_dims.y)
+                continue;
+            const int row = (cz * grid_dims.y + cy) * grid_dims.x;
+            for (int cx = max(home.x - wide, 0); cx <= min(home.x + wide, grid_dims.x - 1); ++cx) {
+                const int cell = row + cx;
+                if (cell_level[cell] <= level)
+                    continue;
+                for (int j = cell_start[cell]; j < cell_end[cell] && !coarser_near; ++j) {
+                    const vec d = xi - pos[j];
+                    coarser_near = ((flags[j] >> SPH_LEVEL_SHIFT) & SPH_LEVEL_MASK) > level &&
+                                   dot(d, d) < limit * limit;
+                }
+            }
+        }
     }
-    END_FOR_EACH_NEIGHBOUR
-    const int reach = coarser_near ? wide : reach_cells(scale, skin);
-    flags[i] = (flag & ~(SPH_REACH_MASK << SPH_REACH_SHIFT)) | (reach << SPH_REACH_SHIFT);
+    reach[i] = coarser_near ? wide : reach_cells(scale, skin);
+}
+
+/* reads reach; updates flags */
+__kernel void grid_apply_reach(__global int *restrict flags, __global const int *restrict reach,
+                               const int n)
+{
+    const int i = get_global_id(0);
+    if (i >= n)
+        return;
+    flags[i] = (flags[i] & ~(SPH_REACH_MASK << SPH_REACH_SHIFT)) | (reach[i] << SPH_REACH_SHIFT);
 }
 #endif
