@@ -111,8 +111,8 @@ struct case_body {
         /* the track form: the finest region is every point within track_radius
          * of the segment track_from - track_to (m); the shells follow it */
         double track_from[3], track_to[3], track_radius;
-        int layers;           /* particle layers per shell, default 6 */
-        int levels;           /* coarsest level k (spacing 2^k dx), default 3 */
+        int layers; /* particle layers per shell, default 6 */
+        int levels; /* coarsest level k (spacing 2^k dx), default 3 */
     } grading;
 };
 
