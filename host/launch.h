@@ -1,5 +1,5 @@
 /* Kernel-argument helpers shared by the host files that enqueue kernels
- * (step.c, ballistics.c, ghost.c): SET_ARGS(kernel, MEM(buf), INT(i), ...)
+ * (launch.c, step.c, ballistics.c, ghost.c): SET_ARGS(kernel, MEM(buf), INT(i), ...)
  * sets every argument and checks each call; real_value and real4_value
  * pass a scalar or a 4-vector in the device precision. */
 #ifndef SPH_LAUNCH_H

@@ -12,91 +12,36 @@ int solver_create_buffers(struct solver *s, const struct sph_case *c, const stru
 void solver_upload_constants(struct solver *s, const struct sph_case *c);
 void solver_release_buffers(struct solver *s);
 
-#define LOCAL_SIZE 64
 #define MAX_CELLS (1 << 26) /* 256 MiB of cell ranges: beyond, particles have left */
-
-static size_t round_up(size_t n, size_t m)
-{
-    return (n + m - 1) / m * m;
-}
-
-static cl_kernel make_kernel(struct solver *s, const char *name)
-{
-    if (cl_failed())
-        return NULL;
-    cl_int err = CL_SUCCESS;
-    cl_kernel k = clCreateKernel(s->dev->program, name, &err);
-    if (cl_checked(err) != CL_SUCCESS) {
-        char call[160];
-        snprintf(call, sizeof call, "clCreateKernel(%s)", name);
-        cl_fail(call, err != CL_SUCCESS ? err : CL_OUT_OF_RESOURCES, __FILE__, __LINE__);
-    }
-    return k;
-}
-
-static void launch(struct solver *s, cl_kernel k, size_t global, size_t local)
-{
-    /* an explicit work-group size: PoCL's own choice for a NULL size costs
-     * far more per launch on a CPU */
-    const size_t l = local ? local : LOCAL_SIZE;
-    const size_t g = round_up(global ? global : 1, l);
-    if (cl_failed()) /* the run is unwinding (host/device.h) */
-        return;
-    cl_event event = NULL;
-    const cl_int err = cl_checked(clEnqueueNDRangeKernel(s->dev->queue, k, 1, NULL, &g, &l, 0, NULL,
-                                                         sph_profiler ? &event : NULL));
-    if (err != CL_SUCCESS) {
-        char name[128] = "?";
-        clGetKernelInfo(k, CL_KERNEL_FUNCTION_NAME, sizeof name, name, NULL);
-        char call[200];
-        snprintf(call, sizeof call, "clEnqueueNDRangeKernel(%s, %zu work-items)", name, g);
-        cl_fail(call, err, __FILE__, __LINE__);
-        if (event)
-            clReleaseEvent(event);
-        return;
-    }
-    if (sph_profiler)
-        profile_record(k, event);
-}
-
-cl_kernel solver_make_kernel(struct solver *s, const char *name)
-{
-    return make_kernel(s, name);
-}
-
-void solver_launch(struct solver *s, cl_kernel k, size_t global, size_t local)
-{
-    launch(s, k, global, local);
-}
 
 static void create_kernels(struct solver *s)
 {
     struct kernels *k = &s->k;
-    k->cell_keys = make_kernel(s, "grid_cell_keys");
-    k->bitonic_step = make_kernel(s, "grid_bitonic_step");
-    k->fill_int = make_kernel(s, "grid_fill_int");
-    k->cell_ranges = make_kernel(s, "grid_cell_ranges");
-    k->bounds = make_kernel(s, "grid_bounds");
-    k->gather[ELEM_REAL] = make_kernel(s, "grid_gather_real");
-    k->gather[ELEM_INT] = make_kernel(s, "grid_gather_int");
-    k->gather[ELEM_VEC] = make_kernel(s, "grid_gather_vec");
-    k->gather[ELEM_SYMT] = make_kernel(s, "grid_gather_symt");
-    k->gather[ELEM_FULLT] = make_kernel(s, "grid_gather_fullt");
-    k->pass1 = make_kernel(s, s->lanes ? "pass1_lanes" : "pass1_velocity_gradient");
-    k->material = make_kernel(s, "material_update");
-    k->pass2 = make_kernel(s, s->lanes ? "pass2_lanes" : "pass2_momentum_energy");
-    k->kick = make_kernel(s, "integrate_kick");
-    k->drift = make_kernel(s, "integrate_drift");
-    k->reduce = make_kernel(s, "reduce_step");
-    k->neighbour_count = make_kernel(s, "health_neighbour_count");
-    k->tl_correction = make_kernel(s, "tl_correction");
-    k->tl_deformation = make_kernel(s, "tl_deformation");
-    k->tl_first_piola = make_kernel(s, "tl_first_piola");
-    k->tl_momentum = make_kernel(s, "tl_momentum");
-    k->health = make_kernel(s, "health_indicators");
-    k->neighbour_reach = s->graded ? make_kernel(s, "grid_neighbour_reach") : NULL;
-    k->cell_max_level = s->graded ? make_kernel(s, "grid_cell_max_level") : NULL;
-    k->apply_reach = s->graded ? make_kernel(s, "grid_apply_reach") : NULL;
+    k->cell_keys = solver_make_kernel(s, "grid_cell_keys");
+    k->bitonic_step = solver_make_kernel(s, "grid_bitonic_step");
+    k->fill_int = solver_make_kernel(s, "grid_fill_int");
+    k->cell_ranges = solver_make_kernel(s, "grid_cell_ranges");
+    k->bounds = solver_make_kernel(s, "grid_bounds");
+    k->gather[ELEM_REAL] = solver_make_kernel(s, "grid_gather_real");
+    k->gather[ELEM_INT] = solver_make_kernel(s, "grid_gather_int");
+    k->gather[ELEM_VEC] = solver_make_kernel(s, "grid_gather_vec");
+    k->gather[ELEM_SYMT] = solver_make_kernel(s, "grid_gather_symt");
+    k->gather[ELEM_FULLT] = solver_make_kernel(s, "grid_gather_fullt");
+    k->pass1 = solver_make_kernel(s, s->lanes ? "pass1_lanes" : "pass1_velocity_gradient");
+    k->material = solver_make_kernel(s, "material_update");
+    k->pass2 = solver_make_kernel(s, s->lanes ? "pass2_lanes" : "pass2_momentum_energy");
+    k->kick = solver_make_kernel(s, "integrate_kick");
+    k->drift = solver_make_kernel(s, "integrate_drift");
+    k->reduce = solver_make_kernel(s, "reduce_step");
+    k->neighbour_count = solver_make_kernel(s, "health_neighbour_count");
+    k->tl_correction = solver_make_kernel(s, "tl_correction");
+    k->tl_deformation = solver_make_kernel(s, "tl_deformation");
+    k->tl_first_piola = solver_make_kernel(s, "tl_first_piola");
+    k->tl_momentum = solver_make_kernel(s, "tl_momentum");
+    k->health = solver_make_kernel(s, "health_indicators");
+    k->neighbour_reach = s->graded ? solver_make_kernel(s, "grid_neighbour_reach") : NULL;
+    k->cell_max_level = s->graded ? solver_make_kernel(s, "grid_cell_max_level") : NULL;
+    k->apply_reach = s->graded ? solver_make_kernel(s, "grid_apply_reach") : NULL;
 }
 
 static void release_kernels(struct solver *s)
@@ -200,7 +145,7 @@ void solver_release(struct solver *s)
 static void read_bounds(struct solver *s, double lo[3], double hi[3])
 {
     SET_ARGS(s->k.bounds, MEM(s->field[FIELD_POS]), MEM(s->bounds_partials), INT(s->n));
-    launch(s, s->k.bounds, (size_t)s->reduce_groups * REDUCE_GROUP_SIZE, REDUCE_GROUP_SIZE);
+    solver_launch(s, s->k.bounds, (size_t)s->reduce_groups * REDUCE_GROUP_SIZE, REDUCE_GROUP_SIZE);
     const size_t count = 6 * (size_t)s->reduce_groups;
     double values[6 * 64] = {0};
     if (s->double_precision)
@@ -285,23 +230,8 @@ static void sort_keys(struct solver *s)
     SET_ARGS(s->k.cell_keys, MEM(s->field[FIELD_POS]), MEM(s->sort_keys), INT(s->n),
              real4_value(s, &origin, s->grid.origin),
              real_value(s, &inv_cell, 1.0 / s->grid.cell_size), RAW(sizeof dims, &dims));
-    launch(s, s->k.cell_keys, (size_t)s->n, 0);
+    solver_launch(s, s->k.cell_keys, (size_t)s->n, 0);
     solver_bitonic_sort(s);
-}
-
-void solver_bitonic_sort(struct solver *s)
-{
-    /* bitonic network over the next power of two N >= n, log2(N) (log2(N)
-     * + 1) / 2 compare-exchange stages, the keys past n virtual
-     * (kernels/grid.cl) */
-    const cl_uint n = (cl_uint)s->n;
-    for (cl_uint k = 2; k / 2 < n; k <<= 1)
-        for (cl_uint j = k >> 1; j > 0; j >>= 1) {
-            const cl_int flip = j == k >> 1;
-            SET_ARGS(s->k.bitonic_step, MEM(s->sort_keys), RAW(sizeof j, &j), INT(flip),
-                     RAW(sizeof n, &n));
-            launch(s, s->k.bitonic_step, (size_t)s->n, 0);
-        }
 }
 
 static void cell_ranges(struct solver *s)
@@ -310,27 +240,10 @@ static void cell_ranges(struct solver *s)
     cl_mem targets[2] = {s->cell_start, s->cell_end};
     for (int t = 0; t < 2; ++t) {
         SET_ARGS(s->k.fill_int, MEM(targets[t]), INT(minus_one), INT(cells));
-        launch(s, s->k.fill_int, (size_t)cells, 0);
+        solver_launch(s, s->k.fill_int, (size_t)cells, 0);
     }
     SET_ARGS(s->k.cell_ranges, MEM(s->sort_keys), MEM(s->cell_start), MEM(s->cell_end), INT(s->n));
-    launch(s, s->k.cell_ranges, (size_t)s->n, 0);
-}
-
-void solver_gather_persistent(struct solver *s)
-{
-    for (int f = 0; f < FIELD_PERSISTENT_END; ++f) {
-        if (!solver_field_used(s, (enum field)f))
-            continue;
-        const enum element_kind kind = field_table[f].kind;
-        SET_ARGS(s->k.gather[kind], MEM(s->sort_keys), MEM(s->field[f]), MEM(s->gather_spare),
-                 INT(s->n));
-        launch(s, s->k.gather[kind], (size_t)s->n, 0);
-        /* one spare for every field (not one per element kind, swapped in):
-         * the copy back costs a read and a write per sort, the spares
-         * would cost 56 B per particle in 3-D */
-        CL_CHECK(clEnqueueCopyBuffer(s->dev->queue, s->gather_spare, s->field[f], 0, 0,
-                                     s->element_size[kind] * (size_t)s->n, 0, NULL, NULL));
-    }
+    solver_launch(s, s->k.cell_ranges, (size_t)s->n, 0);
 }
 
 /* The grid arguments every neighbour pass takes (GRID_ARGS). */
@@ -352,14 +265,14 @@ int solver_sort(struct solver *s, char *error, size_t error_size)
         const cl_int cells = s->grid.cell_count;
         SET_ARGS(s->k.cell_max_level, MEM(s->field[FIELD_FLAGS]), MEM(s->cell_start),
                  MEM(s->cell_end), MEM(s->cell_level), INT(cells));
-        launch(s, s->k.cell_max_level, (size_t)cells, 0);
+        solver_launch(s, s->k.cell_max_level, (size_t)cells, 0);
         /* the gather spare (free after the gathers) holds the reaches */
         SET_ARGS(s->k.neighbour_reach, MEM(s->field[FIELD_POS]), MEM(s->field[FIELD_FLAGS]),
                  GRID_ARG_LIST(s, dims), MEM(s->cell_level), MEM(s->run_params),
                  real_value(s, &a_skin, s->skin), MEM(s->gather_spare), INT(s->n));
-        launch(s, s->k.neighbour_reach, (size_t)s->n, 0);
+        solver_launch(s, s->k.neighbour_reach, (size_t)s->n, 0);
         SET_ARGS(s->k.apply_reach, MEM(s->field[FIELD_FLAGS]), MEM(s->gather_spare), INT(s->n));
-        launch(s, s->k.apply_reach, (size_t)s->n, 0);
+        solver_launch(s, s->k.apply_reach, (size_t)s->n, 0);
     }
     return 0;
 }
@@ -387,7 +300,7 @@ static void pass1(struct solver *s, double dt)
              GRID_ARG_LIST(s, dims), MEM(s->materials), MEM(s->run_params), MEM(f[FIELD_CSPH]),
              MEM(f[FIELD_VELOCITY_GRADIENT]), MEM(f[FIELD_AV_ALPHA]), real_value(s, &a_dt, dt),
              MATERIAL_STATE_LIST(f), INT(s->n));
-    launch(s, s->k.pass1, pass_items(s), 0);
+    solver_launch(s, s->k.pass1, pass_items(s), 0);
 }
 
 /* The total Lagrangian form's material update (its own kernel). */
@@ -399,7 +312,7 @@ static void material(struct solver *s, double dt)
              MEM(f[FIELD_DENSITY_RATE]), MEM(f[FIELD_MATERIAL]), MEM(f[FIELD_FLAGS]),
              MEM(f[FIELD_POS]), MEM(f[FIELD_VEL_HALF]), MEM(s->materials), MEM(s->run_params),
              real_value(s, &a_dt, dt), MATERIAL_STATE_LIST(f), INT(s->n));
-    launch(s, s->k.material, (size_t)s->n, 0);
+    solver_launch(s, s->k.material, (size_t)s->n, 0);
 }
 
 static void pass2(struct solver *s)
@@ -413,7 +326,7 @@ static void pass2(struct solver *s)
              GRID_ARG_LIST(s, dims), MEM(s->run_params), MEM(f[FIELD_ACCELERATION]),
              MEM(f[FIELD_ENERGY_RATE]), MEM(f[FIELD_VISCOUS_HEATING]), MEM(f[FIELD_XSPH_VELOCITY]),
              INT(s->n));
-    launch(s, s->k.pass2, pass_items(s), 0);
+    solver_launch(s, s->k.pass2, pass_items(s), 0);
 }
 
 /* Total Lagrangian passes (kernels/total_lagrangian.cl). */
@@ -424,7 +337,7 @@ static void tl_correction(struct solver *s)
     SET_ARGS(s->k.tl_correction, MEM(f[FIELD_POS0]), MEM(f[FIELD_MASS]), MEM(f[FIELD_MATERIAL]),
              GRID_ARG_LIST(s, dims), MEM(s->materials), MEM(s->run_params), MEM(f[FIELD_CSPH]),
              INT(s->n));
-    launch(s, s->k.tl_correction, (size_t)s->n, 0);
+    solver_launch(s, s->k.tl_correction, (size_t)s->n, 0);
 }
 
 static void tl_deformation(struct solver *s, double dt)
@@ -438,7 +351,7 @@ static void tl_deformation(struct solver *s, double dt)
              MEM(s->run_params), MEM(f[FIELD_CSPH]), real_value(s, &a_dt, dt),
              MEM(f[FIELD_VELOCITY_GRADIENT]), MEM(f[FIELD_DENSITY_RATE]),
              MEM(f[FIELD_DEFORMATION_GRADIENT]), INT(s->n));
-    launch(s, s->k.tl_deformation, (size_t)s->n, 0);
+    solver_launch(s, s->k.tl_deformation, (size_t)s->n, 0);
 }
 
 static void tl_first_piola(struct solver *s)
@@ -447,7 +360,7 @@ static void tl_first_piola(struct solver *s)
     SET_ARGS(s->k.tl_first_piola, MEM(f[FIELD_RHO]), MEM(f[FIELD_PRESSURE]), MEM(f[FIELD_STRESS]),
              MEM(f[FIELD_DEFORMATION_GRADIENT]), MEM(f[FIELD_CSPH]), MEM(f[FIELD_MATERIAL]),
              MEM(s->materials), MEM(f[FIELD_FIRST_PIOLA]), INT(s->n));
-    launch(s, s->k.tl_first_piola, (size_t)s->n, 0);
+    solver_launch(s, s->k.tl_first_piola, (size_t)s->n, 0);
 }
 
 static void tl_momentum(struct solver *s)
@@ -460,7 +373,7 @@ static void tl_momentum(struct solver *s)
              MEM(f[FIELD_FLAGS]), GRID_ARG_LIST(s, dims), MEM(s->materials), MEM(s->run_params),
              MEM(f[FIELD_ACCELERATION]), MEM(f[FIELD_ENERGY_RATE]), MEM(f[FIELD_VISCOUS_HEATING]),
              MEM(f[FIELD_HOURGLASS_POWER]), MEM(f[FIELD_XSPH_VELOCITY]), INT(s->n));
-    launch(s, s->k.tl_momentum, (size_t)s->n, 0);
+    solver_launch(s, s->k.tl_momentum, (size_t)s->n, 0);
 }
 
 /* Pass 1 and the stress-derived fields of the updated or total form. */
@@ -502,7 +415,7 @@ void solver_step(struct solver *s, double dt, double dt_prev, const double load[
              MEM(s->materials), MEM(s->run_params), MEM(s->walls), INT(s->wall_count),
              real_value(s, &a_dx, s->dx), real_value(s, &a_dt, dt), real_value(s, &a_prev, dt_prev),
              real4_value(s, &a_load, load), MEM(f[FIELD_WALL_FORCE]), INT(s->n));
-    launch(s, s->k.kick, (size_t)s->n, 0);
+    solver_launch(s, s->k.kick, (size_t)s->n, 0);
     if (s->projectile.enabled)
         solver_projectile_advance(s, dt, dt_prev);
     deformation_and_material(s, dt);
@@ -518,7 +431,7 @@ void solver_step(struct solver *s, double dt, double dt_prev, const double load[
              MEM(f[FIELD_RHO]), MEM(f[FIELD_DENSITY_CHANGE]), MEM(f[FIELD_PLASTIC_STRAIN]),
              MEM(f[FIELD_MATERIAL]), MEM(s->materials), real_value(s, &a_dt, dt),
              real4_value(s, &a_plane, plane), real4_value(s, &a_side, side), INT(s->n));
-    launch(s, s->k.drift, (size_t)s->n, 0);
+    solver_launch(s, s->k.drift, (size_t)s->n, 0);
 }
 
 static void combine_partials(const struct solver *s, const double *v, struct reduction *out)
@@ -584,7 +497,7 @@ void solver_reduce(struct solver *s, const double load[3], struct reduction *out
              MEM(f[FIELD_WALL_FORCE]), INT(s->wall_count), MEM(f[FIELD_VISCOUS_HEATING]),
              MEM(f[FIELD_HOURGLASS_POWER]), MEM(s->run_params), real4_value(s, &a_load, load),
              MEM(s->partials), INT(s->n));
-    launch(s, s->k.reduce, (size_t)s->reduce_groups * REDUCE_GROUP_SIZE, REDUCE_GROUP_SIZE);
+    solver_launch(s, s->k.reduce, (size_t)s->reduce_groups * REDUCE_GROUP_SIZE, REDUCE_GROUP_SIZE);
     double values[64 * SPH_RED_SLOTS] = {0};
     read_partials(s, (size_t)s->reduce_groups * SPH_RED_SLOTS, values);
     combine_partials(s, values, out);
@@ -597,7 +510,7 @@ void solver_health(struct solver *s, struct health_reading *out)
     SET_ARGS(s->k.health, MEM(s->field[FIELD_POS]), MEM(s->field[FIELD_PRESSURE]),
              MEM(s->field[FIELD_STRESS]), MEM(s->field[FIELD_FLAGS]), GRID_ARG_LIST(s, dims),
              MEM(s->run_params), real_value(s, &a_dx, s->dx), MEM(s->partials), INT(s->n));
-    launch(s, s->k.health, (size_t)s->reduce_groups * REDUCE_GROUP_SIZE, REDUCE_GROUP_SIZE);
+    solver_launch(s, s->k.health, (size_t)s->reduce_groups * REDUCE_GROUP_SIZE, REDUCE_GROUP_SIZE);
     double v[64 * SPH_HEALTH_SLOTS] = {0};
     read_partials(s, (size_t)s->reduce_groups * SPH_HEALTH_SLOTS, v);
     double min_distance = HUGE_VAL, nb_min = HUGE_VAL, nb_max = 0, sums[SPH_HEALTH_SLOTS] = {0};
@@ -624,7 +537,7 @@ void solver_neighbour_counts(struct solver *s, int *count_by_id)
     SET_ARGS(s->k.neighbour_count, MEM(s->field[FIELD_POS]), MEM(s->field[FIELD_POS0]),
              MEM(s->field[FIELD_FLAGS]), GRID_ARG_LIST(s, dims), MEM(s->run_params),
              MEM(s->gather_spare), INT(s->n));
-    launch(s, s->k.neighbour_count, (size_t)s->n, 0);
+    solver_launch(s, s->k.neighbour_count, (size_t)s->n, 0);
     int *count = calloc((size_t)s->n, sizeof(int)), *id = calloc((size_t)s->n, sizeof(int));
     CL_CHECK(clEnqueueReadBuffer(s->dev->queue, s->gather_spare, CL_TRUE, 0,
                                  sizeof(int) * (size_t)s->n, count, 0, NULL, NULL));
