@@ -10,6 +10,7 @@
 
 #include "device.h"
 #include "output.h"
+#include "run_parts.h"
 #include "scene.h"
 #include "solver.h"
 
@@ -20,48 +21,43 @@ static double wall_seconds(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-/* What the loop tracks of a projectile (host/ballistics.c). */
-struct ballistics_track {
-    double energy;    /* projectile kinetic + contact energy at the last row, J */
-    double momentum0; /* M v0 along the axis, kg m/s */
-    double max_penetration, time_of_max, final_penetration, final_velocity;
-    double max_d1, max_d2, momentum_error;
-    double damaged_fraction; /* largest over the snapshots */
-    double left_fine_time;   /* s: first row with the nose in a graded body's coarse shells; < 0 */
-    double max_lateral, final_lateral; /* centre's distance from the shot line, m */
-    double exit_time;                  /* s: first row with the sphere through the target; < 0 */
-};
-
-/* Everything the loop carries from step to step. */
+/* Everything the loop carries from step to step: the stepping state here,
+ * each other concern in its own struct (host/run_parts.h). */
 struct loop {
     const struct sph_case *c;
     const struct run_options *opt;
     struct solver *s;
     struct output *out;
     const struct sph_scene *scene;
-    double t, dt, dt_cfl, dt_prev, dt_initial, external_work;
+    double t, dt, dt_cfl, dt_prev, dt_initial;
     long step;
     double next_history, next_snapshot, next_progress_wall, wall_start;
-    double energy_start, energy_scale, energy_excursion;
     double probe, window_sum, window_error_sum;
     long window_steps;
-    int *initial_neighbours, *neighbours;
-    char *damaged; /* per particle (by id), from the last snapshot */
-    double max_neighbour_loss;
-    double wall_work, wall_impulse[3], impulse_since_row_time; /* J, N s, s */
-    double viscous_work;   /* J: heat made by the artificial viscosity (in the internal energy) */
-    double hourglass_work; /* J: work the hourglass forces took out of the motion */
-    double kinetic_start;  /* J: kinetic energy of particles and projectile at t = 0 */
-    double final_length, footprint_radius, max_plastic_strain, max_temperature;
-    double min_pair_distance, max_clumped, max_swegle;
-    double first_unhealthy_time; /* s; < 0 while healthy */
-    int stop_unhealthy;          /* a snapshot found a tear and health.stop asks to stop */
+    struct energy_ledger energy;
+    struct health_watch health;
+    struct impact_metrics impact;
     struct ballistics_track ballistics;
-    char unhealthy_reason[256];
     struct reduction red;
     char message[1024];
     const char *status;
 };
+
+static struct run_clock clock_of(const struct loop *L)
+{
+    return (struct run_clock){.t = L->t, .step = L->step, .quiet = L->opt->quiet};
+}
+
+/* the sphere's share of the model's energy, J (0 without a projectile) */
+static double projectile_energy(const struct loop *L)
+{
+    return L->s->projectile.enabled ? L->ballistics.energy : 0.0;
+}
+
+static double total_energy(const struct loop *L)
+{
+    return ledger_total(&L->energy, &L->red, projectile_energy(L));
+}
 
 static void load_vector(const struct loop *L, double t, double f[3])
 {
@@ -94,145 +90,27 @@ static void track_probe(struct loop *L)
     }
 }
 
-static double total_energy(const struct loop *L);
-
-/* The health indicators of this row against the case's thresholds
- * (case_health): the first crossing is recorded, and stops the run when
- * health.stop is set. Returns non-zero to stop. The energy threshold is
- * checked at the end, against the run's largest energy (early rows of a
- * loaded run have almost no energy to compare with). */
+/* The health indicators of this row against the case's thresholds; returns
+ * non-zero to stop (health.stop). */
 static int watch_health(struct loop *L, struct history_row *row)
 {
     solver_health(L->s, &row->health);
     if (sph_profiler) /* the neighbour passes' pair count until the next row */
         sph_profiler->pairs_per_call = row->health.neighbours_mean * L->s->n_real;
     row->energy_error =
-        L->energy_scale > 0 ? (total_energy(L) - L->energy_start) / L->energy_scale : 0.0;
-    const struct case_health *limit = &L->c->health;
-    const double dx = L->c->numerics.dx;
-    L->min_pair_distance = fmin(L->min_pair_distance, row->health.min_pair_distance / dx);
-    L->max_clumped = fmax(L->max_clumped, row->health.clumped_fraction);
-    L->max_swegle = fmax(L->max_swegle, row->health.swegle_fraction);
-    if (L->first_unhealthy_time >= 0)
+        L->energy.scale > 0 ? (total_energy(L) - L->energy.start) / L->energy.scale : 0.0;
+    if (!health_watch_row(&L->health, L->c, &row->health, clock_of(L), L->message,
+                          sizeof L->message))
         return 0;
-    char *why = L->unhealthy_reason;
-    const size_t size = sizeof L->unhealthy_reason;
-    if (row->health.min_pair_distance < limit->min_pair_distance * dx)
-        snprintf(why, size, "smallest pair distance %.3g dx below %.3g dx",
-                 row->health.min_pair_distance / dx, limit->min_pair_distance);
-    else if (row->health.clumped_fraction > limit->clumped_fraction)
-        snprintf(why, size,
-                 "%.3g%% of particles clumped (a neighbour closer than dx/2), above %.3g%%",
-                 100 * row->health.clumped_fraction, 100 * limit->clumped_fraction);
-    else
-        return 0;
-    L->first_unhealthy_time = L->t;
-    if (!L->opt->quiet)
-        fprintf(stderr, "\nsph: unhealthy at t = %.6e s, step %ld: %s\n", L->t, L->step, why);
-    if (!limit->stop)
-        return 0;
-    snprintf(L->message, sizeof L->message, "stopped unhealthy at step %ld, t = %.6e s: %s",
-             L->step, L->t, why);
     L->status = "unhealthy";
     return 1;
-}
-
-/* Whether point x lies in a graded body's box but outside its fine box:
- * where the lattice does not refine with numerics.dx. */
-static int in_coarse_shells(const struct sph_case *c, const double x[3])
-{
-    for (int b = 0; b < c->body_count; ++b) {
-        const struct case_body *body = &c->bodies[b];
-        if (!body->grading.enabled)
-            continue;
-        int in_body = 1;
-        for (int a = 0; a < c->dimension; ++a)
-            in_body &= x[a] >= body->box.min[a] && x[a] <= body->box.max[a];
-        if (in_body && grading_level_at(c, body, x) > 0)
-            return 1;
-    }
-    return 0;
-}
-
-/* The first time the sphere's nose enters coarse shells: the depth from
- * then on is not refined by numerics.dx, so a convergence study must not
- * reach it (docs/shock_capturing.md, SEBS). */
-static void watch_fine_region(struct loop *L, const struct projectile_reading *p)
-{
-    const struct projectile *proj = &L->s->projectile;
-    double nose[3];
-    for (int a = 0; a < 3; ++a)
-        nose[a] = p->position[a] + proj->radius * proj->axis[a];
-    if (L->ballistics.left_fine_time >= 0 || !in_coarse_shells(L->c, nose))
-        return;
-    L->ballistics.left_fine_time = L->t;
-    if (!L->opt->quiet)
-        fprintf(stderr,
-                "\nsph: at t = %.6e s the sphere's nose (%.4g m deep) left the graded lattice's "
-                "fine region: from here on its depth does not refine with numerics.dx\n",
-                L->t, p->penetration);
-}
-
-/* The first row with the whole sphere past the target's initial exit face
- * on its track: it perforated, and its speed from then on is the residual
- * velocity. */
-static void watch_perforation(struct loop *L, const struct projectile_reading *p)
-{
-    if (L->ballistics.exit_time >= 0 || !p->through)
-        return;
-    L->ballistics.exit_time = L->t;
-    if (!L->opt->quiet)
-        fprintf(stderr,
-                "\nsph: at t = %.6e s the sphere is through the target (perforated) at "
-                "%.6g m/s\n",
-                L->t, p->speed_along_axis);
-}
-
-/* The projectile's row of ballistics.csv and its running extremes. */
-static void track_projectile(struct loop *L)
-{
-    const struct projectile *p = &L->s->projectile;
-    struct ballistics_track *b = &L->ballistics;
-    struct ballistics_row row = {.time = L->t};
-    solver_projectile_read(L->s, &row.p);
-    double speed2 = 0, target = 0;
-    for (int a = 0; a < 3; ++a) {
-        speed2 += row.p.velocity[a] * row.p.velocity[a];
-        target += L->red.momentum[a] * p->axis[a];
-    }
-    row.projectile_kinetic = 0.5 * p->mass * speed2;
-    row.system_momentum = p->momentum_scale * target + p->mass * row.p.speed_along_axis;
-    /* the particle sums are the modelled part's (a quarter with two symmetry
-     * planes), the sphere's figures the whole sphere's: the ledger takes
-     * the sphere's share of the model */
-    b->energy =
-        (row.projectile_kinetic + row.p.contact_energy + row.p.dissipated) / p->momentum_scale;
-    if (L->step == 0)
-        b->momentum0 = row.system_momentum;
-    b->momentum_error =
-        fmax(b->momentum_error, fabs(row.system_momentum - b->momentum0) / fabs(b->momentum0));
-    if (row.p.penetration > b->max_penetration) {
-        b->max_penetration = row.p.penetration;
-        b->time_of_max = L->t;
-    }
-    b->final_penetration = row.p.penetration;
-    b->max_lateral = fmax(b->max_lateral, row.p.lateral_deflection);
-    b->final_lateral = row.p.lateral_deflection;
-    watch_perforation(L, &row.p);
-    watch_fine_region(L, &row.p);
-    b->final_velocity = row.p.speed_along_axis;
-    for (int k = 0; k < p->probe_count; ++k) {
-        b->max_d1 = fmax(b->max_d1, row.p.cavity_d1[k]);
-        b->max_d2 = fmax(b->max_d2, row.p.cavity_d2[k]);
-    }
-    output_ballistics(L->out, &row);
 }
 
 static int write_history(struct loop *L)
 {
     if (L->s->projectile.enabled) {
-        track_projectile(L);
-        L->energy_excursion = fmax(L->energy_excursion, fabs(total_energy(L) - L->energy_start));
+        ballistics_track_row(&L->ballistics, L->s, L->c, &L->red, clock_of(L), L->out);
+        ledger_watch(&L->energy, &L->red, projectile_energy(L));
     }
     struct history_row row = {.time = L->t,
                               .dt = L->dt,
@@ -240,96 +118,18 @@ static int write_history(struct loop *L)
                               .probe = L->probe,
                               .kinetic = L->red.kinetic,
                               .internal = L->red.internal,
-                              .external_work = L->external_work,
+                              .external_work = L->energy.external_work,
                               .max_speed = L->red.max_speed};
     memcpy(row.momentum, L->red.momentum, sizeof row.momentum);
-    row.wall_work = L->wall_work;
-    row.viscous_work = L->viscous_work;
-    row.hourglass_work = L->hourglass_work;
+    row.wall_work = L->energy.wall_work;
+    row.viscous_work = L->energy.viscous_work;
+    row.hourglass_work = L->energy.hourglass_work;
     row.total_energy = total_energy(L);
-    for (int a = 0; a < 3; ++a) /* the reaction on the walls */
-        row.wall_force[a] =
-            L->impulse_since_row_time > 0 ? -L->wall_impulse[a] / L->impulse_since_row_time : 0.0;
+    ledger_take_wall_force(&L->energy, row.wall_force);
     row.dx = L->c->numerics.dx;
     const int stop = watch_health(L, &row);
     output_history(L->out, &row);
-    memset(L->wall_impulse, 0, sizeof L->wall_impulse);
-    L->impulse_since_row_time = 0;
     return stop;
-}
-
-static void measure_integrity(struct loop *L)
-{
-    solver_neighbour_counts(L->s, L->neighbours);
-    int lost = 0;
-    for (int p = 0; p < L->s->n_real; ++p) /* failed material may separate */
-        lost += 3 * L->neighbours[p] < 2 * L->initial_neighbours[p] && !L->damaged[p];
-    const double fraction = (double)lost / L->s->n_real;
-    L->max_neighbour_loss = fmax(L->max_neighbour_loss, fraction);
-    if (lost == 0 || L->first_unhealthy_time >= 0)
-        return;
-    /* a tear is seen at snapshot times only (it needs the neighbour counts) */
-    L->first_unhealthy_time = L->t;
-    snprintf(L->unhealthy_reason, sizeof L->unhealthy_reason,
-             "torn: %.3g%% of particles lost a third of their initial neighbours (seen at the "
-             "snapshot at step %ld)",
-             100 * fraction, L->step);
-    if (!L->opt->quiet)
-        fprintf(stderr, "\nsph: unhealthy at t = %.6e s, step %ld: %s\n", L->t, L->step,
-                L->unhealthy_reason);
-    if (!L->c->health.stop)
-        return;
-    snprintf(L->message, sizeof L->message, "stopped unhealthy at step %ld, t = %.6e s: %s",
-             L->step, L->t, L->unhealthy_reason);
-    L->status = "unhealthy";
-    L->stop_unhealthy = 1;
-}
-
-/* Impact figures from a snapshot: the body's extent along walls[0]'s
- * normal and the radius of its lowest layer (particles within dx/2 of the
- * lowest) around the axis through the wall's point, both plus dx/2 per
- * side so the initial lattice gives the box's dimensions (a bar that
- * rebounds off the wall is measured the same way), and the largest plastic
- * strain and temperature. */
-static void measure_impact(struct loop *L, const struct host_fields *f)
-{
-    const double dx = L->c->numerics.dx;
-    int damaged = 0;
-    for (int p = 0; p < f->n; ++p) {
-        L->max_plastic_strain = fmax(L->max_plastic_strain, f->plastic_strain[p]);
-        L->max_temperature = fmax(L->max_temperature, f->temperature[p]);
-        L->damaged[p] = (f->flags[p] & SPH_FLAG_DAMAGED) != 0;
-        damaged += L->damaged[p];
-    }
-    L->ballistics.damaged_fraction =
-        fmax(L->ballistics.damaged_fraction, (double)damaged / (f->n > 0 ? f->n : 1));
-    if (L->c->wall_count == 0)
-        return;
-    const struct case_wall *w = &L->c->walls[0];
-    double lowest = HUGE_VAL, highest = -HUGE_VAL, radius = 0;
-    for (int pass = 0; pass < 2; ++pass)
-        for (int p = 0; p < f->n; ++p) {
-            if (f->flags[p] & SPH_FLAG_FIXED)
-                continue;
-            double r[3], height = 0;
-            for (int a = 0; a < 3; ++a) {
-                r[a] = f->pos[3 * p + a] - w->point[a];
-                height += r[a] * w->normal[a];
-            }
-            if (pass == 0) {
-                lowest = fmin(lowest, height);
-                highest = fmax(highest, height);
-            } else if (height < lowest + 0.5 * dx) {
-                double lateral = 0;
-                for (int a = 0; a < 3; ++a) {
-                    const double t = r[a] - height * w->normal[a];
-                    lateral += t * t;
-                }
-                radius = fmax(radius, sqrt(lateral));
-            }
-        }
-    L->final_length = highest - lowest + dx;
-    L->footprint_radius = radius + 0.5 * dx;
 }
 
 static int write_snapshot(struct loop *L)
@@ -341,11 +141,13 @@ static int write_snapshot(struct loop *L)
     if (L->s->projectile.enabled)
         solver_projectile_motion(L->s, meta.projectile_centre, meta.projectile_velocity);
     const int status = output_snapshot(L->out, &f, &meta, error, sizeof error);
-    measure_impact(L, &f);
+    impact_measure(&L->impact, L->c, &f, L->health.damaged);
     host_fields_free(&f);
     if (status)
         fprintf(stderr, "sph: %s\n", error);
-    measure_integrity(L);
+    health_watch_integrity(&L->health, L->s, L->c, clock_of(L), L->message, sizeof L->message);
+    if (L->health.stop)
+        L->status = "unhealthy";
     return status;
 }
 
@@ -396,12 +198,6 @@ static int check_health(struct loop *L)
     return 0;
 }
 
-static double total_energy(const struct loop *L)
-{
-    return L->red.kinetic + L->red.internal - L->external_work - L->wall_work + L->hourglass_work +
-           L->ballistics.energy;
-}
-
 static int one_step(struct loop *L)
 {
     double load[3];
@@ -421,18 +217,9 @@ static int one_step(struct loop *L)
     L->t += L->dt;
     L->dt_prev = L->dt;
     ++L->step;
-    L->external_work += L->red.load_power * L->dt;   /* F(t^n) . v^(n+1/2) dt */
-    L->wall_work += L->red.wall_power * L->dt;       /* f(x^n) . v^(n+1/2) dt, as the load */
-    L->viscous_work += L->red.viscous_power * L->dt; /* the heating pass 2 gave the step */
-    L->hourglass_work += L->red.hourglass_power * L->dt;
-    for (int a = 0; a < 3; ++a)
-        L->wall_impulse[a] += L->red.wall_force[a] * L->dt;
-    L->impulse_since_row_time += L->dt;
-    L->energy_scale =
-        fmax(L->energy_scale, fmax(fabs(L->external_work),
-                                   L->red.kinetic + fabs(L->red.internal) + L->ballistics.energy));
+    ledger_step(&L->energy, &L->red, L->dt, projectile_energy(L));
     if (!L->s->projectile.enabled) /* else at history rows, when its energy is read */
-        L->energy_excursion = fmax(L->energy_excursion, fabs(total_energy(L) - L->energy_start));
+        ledger_watch(&L->energy, &L->red, 0.0);
     track_probe(L);
     return check_health(L);
 }
@@ -461,49 +248,34 @@ static void finish_summary(struct loop *L, struct run_summary *sum)
     sum->reference = L->c->reference.value;
     sum->reference_error_final = fabs(L->probe - sum->reference) / fabs(sum->reference);
     sum->reference_e_av = L->window_steps ? L->window_error_sum / L->window_steps : NAN;
-    sum->energy_drift = L->energy_scale > 0 ? L->energy_excursion / L->energy_scale : 0;
-    sum->max_neighbour_loss_fraction = L->max_neighbour_loss;
+    sum->energy_drift = ledger_drift(&L->energy);
+    sum->max_neighbour_loss_fraction = L->health.max_neighbour_loss;
     /* over the initial kinetic energy, or the largest energy of a run that
      * starts at rest */
-    const double work_scale = L->kinetic_start > 0 ? L->kinetic_start : L->energy_scale;
-    sum->viscous_work_J = L->viscous_work;
-    sum->hourglass_work_J = L->hourglass_work;
-    sum->viscous_work_fraction = work_scale > 0 ? L->viscous_work / work_scale : 0;
-    sum->hourglass_work_fraction = work_scale > 0 ? L->hourglass_work / work_scale : 0;
+    const struct energy_ledger *e = &L->energy;
+    const double work_scale = e->kinetic_start > 0 ? e->kinetic_start : e->scale;
+    sum->viscous_work_J = e->viscous_work;
+    sum->hourglass_work_J = e->hourglass_work;
+    sum->viscous_work_fraction = work_scale > 0 ? e->viscous_work / work_scale : 0;
+    sum->hourglass_work_fraction = work_scale > 0 ? e->hourglass_work / work_scale : 0;
     sum->has_hourglass = L->s->total_lagrangian;
     sum->has_wall = L->c->wall_count > 0;
-    sum->final_length_m = L->final_length;
-    sum->footprint_radius_m = L->footprint_radius;
+    sum->final_length_m = L->impact.final_length;
+    sum->footprint_radius_m = L->impact.footprint_radius;
     for (int m = 0; m < L->c->material_count; ++m)
         sum->has_plasticity |= L->c->materials[m].strength != SPH_STRENGTH_ELASTIC;
-    sum->max_plastic_strain = L->max_plastic_strain;
-    sum->max_temperature_K = L->max_temperature;
-    sum->min_pair_distance_over_dx = L->min_pair_distance;
-    sum->max_clumped_fraction = L->max_clumped;
-    sum->max_swegle_fraction = L->max_swegle;
-    if (L->first_unhealthy_time < 0 && L->c->numerics.damping == 0 &&
-        sum->energy_drift > L->c->health.energy_error && !cl_failed()) {
-        L->first_unhealthy_time = L->t;
-        snprintf(L->unhealthy_reason, sizeof L->unhealthy_reason,
-                 "energy drift %.3g above %.3g over the run", sum->energy_drift,
-                 L->c->health.energy_error);
-    }
-    sum->first_unhealthy_time = L->first_unhealthy_time;
-    sum->unhealthy_reason = L->unhealthy_reason;
-    const struct ballistics_track *b = &L->ballistics;
+    sum->max_plastic_strain = L->impact.max_plastic_strain;
+    sum->max_temperature_K = L->impact.max_temperature;
+    sum->min_pair_distance_over_dx = L->health.min_pair_distance;
+    sum->max_clumped_fraction = L->health.max_clumped;
+    sum->max_swegle_fraction = L->health.max_swegle;
+    if (!cl_failed()) /* a stopped device's last figures are not the run's */
+        health_watch_energy(&L->health, L->c, sum->energy_drift, L->t);
+    sum->first_unhealthy_time = L->health.first_unhealthy_time;
+    sum->unhealthy_reason = L->health.reason;
     sum->has_projectile = L->s->projectile.enabled;
-    sum->max_penetration_m = b->max_penetration;
-    sum->time_of_max_penetration_s = b->time_of_max;
-    sum->final_penetration_m = b->final_penetration;
-    sum->final_projectile_velocity_m_per_s = b->final_velocity;
-    sum->max_cavity_diameter_m = b->max_d1;
-    sum->max_damaged_diameter_m = b->max_d2;
-    sum->left_fine_region_time_s = b->left_fine_time;
-    sum->max_lateral_deflection_m = b->max_lateral;
-    sum->final_lateral_deflection_m = b->final_lateral;
-    sum->exit_time_s = b->exit_time;
-    sum->momentum_error = b->momentum_error;
-    sum->damaged_fraction = b->damaged_fraction;
+    ballistics_track_summary(&L->ballistics, sum);
+    sum->damaged_fraction = L->impact.damaged_fraction;
 }
 
 static void print_summary_line(const struct run_summary *sum, const char *folder)
@@ -594,7 +366,7 @@ static int time_loop(struct loop *L)
                 return 1;
             }
             L->next_snapshot += o->snapshot_interval;
-            if (L->stop_unhealthy)
+            if (L->health.stop)
                 return 3;
         }
         progress(L, 0);
@@ -657,22 +429,17 @@ static int start(struct loop *L, char *error, size_t size)
     solver_reduce(L->s, zero, &L->red);
     L->dt_initial = L->c->numerics.cfl * L->s->run.h / L->red.max_signal;
     L->dt = L->dt_cfl = L->dt_initial;
-    L->energy_start = total_energy(L);
-    L->min_pair_distance = HUGE_VAL;
-    L->first_unhealthy_time = -1;
-    L->ballistics.left_fine_time = -1;
-    L->ballistics.exit_time = -1;
-    L->initial_neighbours = malloc(sizeof(int) * (size_t)L->s->n_real);
-    L->neighbours = malloc(sizeof(int) * (size_t)L->s->n_real);
-    L->damaged = calloc((size_t)L->s->n_real, 1);
+    L->energy.start = total_energy(L);
+    ballistics_track_start(&L->ballistics);
+    if (health_watch_open(&L->health, L->s))
+        return snprintf(error, size, "out of host memory for %d particles", L->s->n_real) > 0;
     if (L->s->projectile.enabled && output_ballistics_open(L->out, &L->s->projectile, error, size))
         return 1;
-    solver_neighbour_counts(L->s, L->initial_neighbours);
     track_probe(L);
     write_history(L);
-    L->energy_start = total_energy(L); /* now with the projectile's energy read */
-    L->kinetic_start = L->red.kinetic + L->ballistics.energy;
-    L->energy_excursion = 0;
+    L->energy.start = total_energy(L); /* now with the projectile's energy read */
+    L->energy.kinetic_start = L->red.kinetic + projectile_energy(L);
+    L->energy.excursion = 0;
     L->next_history = L->c->output.history_interval;
     L->next_snapshot = L->c->output.snapshot_interval;
     if (cl_failed())
@@ -750,7 +517,9 @@ int run_case(const struct run_options *opt)
                      .out = &out,
                      .scene = &scene,
                      .status = "completed",
-                     .wall_start = wall_seconds()};
+                     .wall_start = wall_seconds(),
+                     .health = {.first_unhealthy_time = -1, .min_pair_distance = HUGE_VAL},
+                     .ballistics = {.left_fine_time = -1, .exit_time = -1}};
     if (output_open(&out, folder, c, scene.count, error, sizeof error) == 0 &&
         start(&L, error, sizeof error) == 0) {
         struct profiler *profile = opt->profile ? calloc(1, sizeof *profile) : NULL;
@@ -788,9 +557,7 @@ int run_case(const struct run_options *opt)
             code = 2;
         }
     }
-    free(L.initial_neighbours);
-    free(L.neighbours);
-    free(L.damaged);
+    health_watch_close(&L.health);
     output_close(&out);
     solver_release(&s);
     device_close(&dev);

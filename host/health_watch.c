@@ -1,0 +1,99 @@
+/* The health watch (host/run_parts.h): the case's thresholds (case_health)
+ * against each history row's indicators and each snapshot's neighbour
+ * counts. The first crossing is recorded and, with health.stop, stops the
+ * run; the energy threshold is checked once at the end, against the run's
+ * largest energy (early rows of a loaded run have almost no energy to
+ * compare with). */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+#include "run_parts.h"
+
+int health_watch_open(struct health_watch *h, struct solver *s)
+{
+    h->min_pair_distance = HUGE_VAL;
+    h->first_unhealthy_time = -1;
+    h->initial_neighbours = malloc(sizeof(int) * (size_t)s->n_real);
+    h->neighbours = malloc(sizeof(int) * (size_t)s->n_real);
+    h->damaged = calloc((size_t)s->n_real, 1);
+    if (!h->initial_neighbours || !h->neighbours || !h->damaged)
+        return 1;
+    solver_neighbour_counts(s, h->initial_neighbours);
+    return 0;
+}
+
+void health_watch_close(struct health_watch *h)
+{
+    free(h->initial_neighbours);
+    free(h->neighbours);
+    free(h->damaged);
+    h->initial_neighbours = h->neighbours = NULL;
+    h->damaged = NULL;
+}
+
+/* Records the first crossing; returns non-zero when health.stop asks to stop. */
+static int unhealthy(struct health_watch *h, const struct sph_case *c, struct run_clock at,
+                     char *message, size_t size)
+{
+    h->first_unhealthy_time = at.t;
+    if (!at.quiet)
+        fprintf(stderr, "\nsph: unhealthy at t = %.6e s, step %ld: %s\n", at.t, at.step, h->reason);
+    if (!c->health.stop)
+        return 0;
+    snprintf(message, size, "stopped unhealthy at step %ld, t = %.6e s: %s", at.step, at.t,
+             h->reason);
+    return 1;
+}
+
+int health_watch_row(struct health_watch *h, const struct sph_case *c,
+                     const struct health_reading *r, struct run_clock at, char *message,
+                     size_t size)
+{
+    const struct case_health *limit = &c->health;
+    const double dx = c->numerics.dx;
+    h->min_pair_distance = fmin(h->min_pair_distance, r->min_pair_distance / dx);
+    h->max_clumped = fmax(h->max_clumped, r->clumped_fraction);
+    h->max_swegle = fmax(h->max_swegle, r->swegle_fraction);
+    if (h->first_unhealthy_time >= 0)
+        return 0;
+    if (r->min_pair_distance < limit->min_pair_distance * dx)
+        snprintf(h->reason, sizeof h->reason, "smallest pair distance %.3g dx below %.3g dx",
+                 r->min_pair_distance / dx, limit->min_pair_distance);
+    else if (r->clumped_fraction > limit->clumped_fraction)
+        snprintf(h->reason, sizeof h->reason,
+                 "%.3g%% of particles clumped (a neighbour closer than dx/2), above %.3g%%",
+                 100 * r->clumped_fraction, 100 * limit->clumped_fraction);
+    else
+        return 0;
+    return unhealthy(h, c, at, message, size);
+}
+
+void health_watch_integrity(struct health_watch *h, struct solver *s, const struct sph_case *c,
+                            struct run_clock at, char *message, size_t size)
+{
+    solver_neighbour_counts(s, h->neighbours);
+    int lost = 0;
+    for (int p = 0; p < s->n_real; ++p) /* failed material may separate */
+        lost += 3 * h->neighbours[p] < 2 * h->initial_neighbours[p] && !h->damaged[p];
+    const double fraction = (double)lost / s->n_real;
+    h->max_neighbour_loss = fmax(h->max_neighbour_loss, fraction);
+    if (lost == 0 || h->first_unhealthy_time >= 0)
+        return;
+    /* a tear is seen at snapshot times only (it needs the neighbour counts) */
+    snprintf(h->reason, sizeof h->reason,
+             "torn: %.3g%% of particles lost a third of their initial neighbours (seen at the "
+             "snapshot at step %ld)",
+             100 * fraction, at.step);
+    h->stop = unhealthy(h, c, at, message, size);
+}
+
+void health_watch_energy(struct health_watch *h, const struct sph_case *c, double drift, double t)
+{
+    if (h->first_unhealthy_time >= 0 || c->numerics.damping != 0 ||
+        !(drift > c->health.energy_error))
+        return;
+    h->first_unhealthy_time = t;
+    snprintf(h->reason, sizeof h->reason, "energy drift %.3g above %.3g over the run", drift,
+             c->health.energy_error);
+}

@@ -1,0 +1,55 @@
+/* Impact figures of a snapshot (host/run_parts.h): the body's extent along
+ * walls[0]'s normal and the radius of its lowest layer (particles within
+ * dx/2 of the lowest) around the axis through the wall's point, both plus
+ * dx/2 per side so the initial lattice gives the box's dimensions (a bar
+ * that rebounds off the wall is measured the same way); the largest
+ * plastic strain and temperature; the damaged particles. */
+#include <math.h>
+
+#include "run_parts.h"
+
+static void measure_footprint(struct impact_metrics *m, const struct sph_case *c,
+                              const struct host_fields *f)
+{
+    const double dx = c->numerics.dx;
+    const struct case_wall *w = &c->walls[0];
+    double lowest = HUGE_VAL, highest = -HUGE_VAL, radius = 0;
+    for (int pass = 0; pass < 2; ++pass)
+        for (int p = 0; p < f->n; ++p) {
+            if (f->flags[p] & SPH_FLAG_FIXED)
+                continue;
+            double r[3], height = 0;
+            for (int a = 0; a < 3; ++a) {
+                r[a] = f->pos[3 * p + a] - w->point[a];
+                height += r[a] * w->normal[a];
+            }
+            if (pass == 0) {
+                lowest = fmin(lowest, height);
+                highest = fmax(highest, height);
+            } else if (height < lowest + 0.5 * dx) {
+                double lateral = 0;
+                for (int a = 0; a < 3; ++a) {
+                    const double t = r[a] - height * w->normal[a];
+                    lateral += t * t;
+                }
+                radius = fmax(radius, sqrt(lateral));
+            }
+        }
+    m->final_length = highest - lowest + dx;
+    m->footprint_radius = radius + 0.5 * dx;
+}
+
+void impact_measure(struct impact_metrics *m, const struct sph_case *c, const struct host_fields *f,
+                    char *damaged)
+{
+    int count = 0;
+    for (int p = 0; p < f->n; ++p) {
+        m->max_plastic_strain = fmax(m->max_plastic_strain, f->plastic_strain[p]);
+        m->max_temperature = fmax(m->max_temperature, f->temperature[p]);
+        damaged[p] = (f->flags[p] & SPH_FLAG_DAMAGED) != 0;
+        count += damaged[p];
+    }
+    m->damaged_fraction = fmax(m->damaged_fraction, (double)count / (f->n > 0 ? f->n : 1));
+    if (c->wall_count > 0)
+        measure_footprint(m, c, f);
+}
