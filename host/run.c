@@ -451,117 +451,138 @@ static int start(struct loop *L, char *error, size_t size)
     return 0;
 }
 
-int run_case(const struct run_options *opt)
-{
-    char error[SPH_ERROR_MAX] = "";
-    struct sph_case *c = calloc(1, sizeof *c);
-    if (case_load(opt->case_path, opt->set_count, opt->sets, c, error, sizeof error)) {
-        fprintf(stderr, "sph: %s\n", error);
-        free(c);
-        return 1;
-    }
+/* What a run holds; close_run releases it in reverse order (every release
+ * accepts what was never made: the struct starts zeroed). */
+struct run_resources {
+    struct sph_case *c;
     struct sph_scene scene;
     struct sph_device dev;
     struct solver s;
     struct output out;
-    int code = 1;
-    if (scene_build(c, &scene, error, sizeof error)) {
-        fprintf(stderr, "sph: %s\n", error);
-        free(c);
+    char folder[SPH_PATH_MAX];
+};
+
+static void close_run(struct run_resources *r)
+{
+    output_close(&r->out);
+    solver_release(&r->s);
+    device_close(&r->dev);
+    scene_free(&r->scene);
+    free(r->c);
+}
+
+/* Case, scene, device, program and solver. Returns 0, or the exit status
+ * (1 bad input, 2 device) with the reason in `error`. */
+static int open_run(const struct run_options *opt, struct run_resources *r, char *error,
+                    size_t size)
+{
+    r->c = calloc(1, sizeof *r->c);
+    if (!r->c)
+        return snprintf(error, size, "out of host memory") > 0;
+    struct sph_case *c = r->c;
+    if (case_load(opt->case_path, opt->set_count, opt->sets, c, error, size) ||
+        scene_build(c, &r->scene, error, size) || projectile_check_scene(c, &r->scene, error, size))
         return 1;
-    }
-    if (projectile_check_scene(c, &scene, error, sizeof error)) {
-        fprintf(stderr, "sph: %s\n", error);
-        scene_free(&scene);
-        free(c);
-        return 1;
-    }
     char options[512];
     solver_build_options(c, options, sizeof options);
-    if (device_open(opt->device, opt->profile, &dev, error, sizeof error)) {
-        fprintf(stderr, "sph: %s\n", error);
-        scene_free(&scene);
-        free(c);
+    if (device_open(opt->device, opt->profile, &r->dev, error, size))
         return 2;
-    }
-    if ((c->numerics.double_precision && !dev.has_double &&
-         snprintf(error, sizeof error, "%s has no double precision; use precision: float",
-                  dev.name) > 0) ||
-        device_build(&dev, device_source_dir(), options, error, sizeof error)) {
-        fprintf(stderr, "sph: %s\n", error);
-        device_close(&dev);
-        scene_free(&scene);
-        free(c);
+    if (c->numerics.double_precision && !r->dev.has_double)
+        return 2 * (snprintf(error, size, "%s has no double precision; use precision: float",
+                             r->dev.name) > 0);
+    if (device_build(&r->dev, device_source_dir(), options, error, size) ||
+        solver_create(&r->s, &r->dev, c, &r->scene, error, size))
         return 2;
-    }
-    if (solver_create(&s, &dev, c, &scene, error, sizeof error)) {
-        fprintf(stderr, "sph: %s\n", error);
-        device_close(&dev);
-        scene_free(&scene);
-        free(c);
-        return 2;
-    }
-    char folder[SPH_PATH_MAX];
     if (opt->out_dir)
-        snprintf(folder, sizeof folder, "%s", opt->out_dir);
+        snprintf(r->folder, sizeof r->folder, "%s", opt->out_dir);
     else
-        default_folder(c, folder, sizeof folder);
+        default_folder(c, r->folder, sizeof r->folder);
     if (!opt->quiet)
         fprintf(stderr,
                 "sph: %s: %d particles (%d-D), %s kernel, h = %.3g m, on %s%s; writing %s\n",
-                c->name, scene.count, c->dimension, case_kernel_name(c->numerics.kernel),
-                (double)s.run.h, dev.name, dev.from_cache ? " (cached program)" : "", folder);
-    struct loop L = {.c = c,
+                c->name, r->scene.count, c->dimension, case_kernel_name(c->numerics.kernel),
+                (double)r->s.run.h, r->dev.name, r->dev.from_cache ? " (cached program)" : "",
+                r->folder);
+    return 0;
+}
+
+/* The time loop, the profile, summary.json and the summary line. Returns
+ * the exit status. */
+static int run_and_report(struct loop *L, struct run_resources *r)
+{
+    struct profiler *profile = L->opt->profile ? calloc(1, sizeof *profile) : NULL;
+    sph_profiler = profile;
+    const double loop_start = profile_clock();
+    int code = time_loop(L);
+    if (profile)
+        profile->wall_s = profile_clock() - loop_start;
+    sph_profiler = NULL;
+    if (profile && report_profile(profile, &r->dev, L->step, r->folder) && code == 0)
+        code = 1;
+    free(profile);
+    progress(L, 1);
+    struct run_summary sum;
+    finish_summary(L, &sum);
+    if (output_summary(&r->out, &sum) != 0) {
+        fprintf(stderr, "sph: cannot write %s/summary.json\n", r->folder);
+        if (code == 0)
+            code = 1;
+    }
+    if (code == 3)
+        fprintf(stderr, "sph: %s; the last state is in %s\n", L->message, r->folder);
+    if (code == 2)
+        fprintf(stderr, "sph: stopped %s; what was written before is in %s\n", L->message,
+                r->folder);
+    print_summary_line(&sum, r->folder);
+    return code;
+}
+
+/* A failure before the first step, once the folder exists: a device
+ * failure still leaves a summary.json that says why. */
+static int report_start_failure(struct loop *L, struct run_resources *r, const char *error)
+{
+    fprintf(stderr, "sph: %s\n", error);
+    if (!cl_failed() || !r->out.history)
+        return 1;
+    L->status = "device_error";
+    snprintf(L->message, sizeof L->message, "before the first step: %s", cl_failure());
+    struct run_summary sum;
+    finish_summary(L, &sum);
+    output_summary(&r->out, &sum);
+    return 2;
+}
+
+int run_case(const struct run_options *opt)
+{
+    char error[SPH_ERROR_MAX] = "";
+    struct run_resources *r = calloc(1, sizeof *r);
+    if (!r) {
+        fprintf(stderr, "sph: out of host memory\n");
+        return 1;
+    }
+    int code = open_run(opt, r, error, sizeof error);
+    if (code) {
+        fprintf(stderr, "sph: %s\n", error);
+        close_run(r);
+        free(r);
+        return code;
+    }
+    struct loop L = {.c = r->c,
                      .opt = opt,
-                     .s = &s,
-                     .out = &out,
-                     .scene = &scene,
+                     .s = &r->s,
+                     .out = &r->out,
+                     .scene = &r->scene,
                      .status = "completed",
                      .wall_start = wall_seconds(),
                      .health = {.first_unhealthy_time = -1, .min_pair_distance = HUGE_VAL},
                      .ballistics = {.left_fine_time = -1, .exit_time = -1}};
-    if (output_open(&out, folder, c, scene.count, error, sizeof error) == 0 &&
-        start(&L, error, sizeof error) == 0) {
-        struct profiler *profile = opt->profile ? calloc(1, sizeof *profile) : NULL;
-        sph_profiler = profile;
-        const double loop_start = profile_clock();
-        code = time_loop(&L);
-        if (profile)
-            profile->wall_s = profile_clock() - loop_start;
-        sph_profiler = NULL;
-        if (profile && report_profile(profile, &dev, L.step, folder) && code == 0)
-            code = 1;
-        free(profile);
-        progress(&L, 1);
-        struct run_summary sum;
-        finish_summary(&L, &sum);
-        if (output_summary(&out, &sum) != 0) {
-            fprintf(stderr, "sph: cannot write %s/summary.json\n", folder);
-            if (code == 0)
-                code = 1;
-        }
-        if (code == 3)
-            fprintf(stderr, "sph: %s; the last state is in %s\n", L.message, folder);
-        if (code == 2)
-            fprintf(stderr, "sph: stopped %s; what was written before is in %s\n", L.message,
-                    folder);
-        print_summary_line(&sum, folder);
-    } else {
-        fprintf(stderr, "sph: %s\n", error);
-        if (cl_failed() && out.history) { /* the folder exists: say why it stops there */
-            L.status = "device_error";
-            snprintf(L.message, sizeof L.message, "before the first step: %s", cl_failure());
-            struct run_summary sum;
-            finish_summary(&L, &sum);
-            output_summary(&out, &sum);
-            code = 2;
-        }
-    }
+    if (output_open(&r->out, r->folder, r->c, r->scene.count, error, sizeof error) == 0 &&
+        start(&L, error, sizeof error) == 0)
+        code = run_and_report(&L, r);
+    else
+        code = report_start_failure(&L, r, error);
     health_watch_close(&L.health);
-    output_close(&out);
-    solver_release(&s);
-    device_close(&dev);
-    scene_free(&scene);
-    free(c);
+    close_run(r);
+    free(r);
     return code;
 }
