@@ -194,6 +194,90 @@ static inline bool particle_failed(__constant const struct sph_material *m, real
  * density or flags, which neighbours' pass 1 reads while it runs: it
  * returns the new density, and integrate_drift writes that and the damage
  * flag (particle_failed) after every particle's update. */
+/* S^(n+1) from S^n: the Jaumann rate with the step's strain rate d and spin
+ * w (none for failed material: a fluid), then the plastic return. Returns
+ * the deviatoric stress power's two halves, S^n : d + S^(n+1) : d: the
+ * mid-step stress (sigma^n + sigma^(n+1)) / 2 with the half-step strain
+ * rate integrates an elastic solid's strain energy exactly, and the SPH
+ * form of L makes it the counterpart of the stress forces' work (see
+ * pass2.cl). Its second half uses the stress after the return (plastic
+ * work heats; in plane stress the return also scales S_zz, so sigma_zz = 0
+ * holds only while the material is elastic). */
+static inline real deviatoric_update(__constant const struct sph_material *m, real s[3][3],
+                                     real d[3][3], real w[3][3], bool was_failed, real dt,
+                                     real rho_i, __global real *plastic_strain_i,
+                                     __global real *temperature_i)
+{
+    real rate[3][3];
+    jaumann_stress_rate(s, d, w, was_failed ? (real)0 : m->shear_modulus, rate);
+    real power = 0;
+#pragma unroll
+    for (int a = 0; a < 3; ++a)
+#pragma unroll
+        for (int b = 0; b < 3; ++b) {
+            power += s[a][b] * d[a][b];
+            s[a][b] += dt * rate[a][b];
+        }
+#ifdef SPH_PLASTICITY
+    if (m->strength != SPH_STRENGTH_ELASTIC)
+        plastic_correction(m, s, d, rho_i, plastic_strain_i, temperature_i);
+#else
+    (void)rho_i;
+    (void)plastic_strain_i;
+    (void)temperature_i;
+#endif
+#pragma unroll
+    for (int a = 0; a < 3; ++a)
+#pragma unroll
+        for (int b = 0; b < 3; ++b)
+            power += s[a][b] * d[a][b];
+    return power;
+}
+
+/* The end-of-step stress state: a particle that has failed (thesis 4.3.2)
+ * keeps no deviatoric stress and no tension; the artificial stress R of
+ * the total stress (Monaghan 2000) for the next pass 2. */
+static inline void store_stress(__constant const struct sph_material *m, real s[3][3], real p,
+                                real density, bool was_failed,
+                                __constant const struct sph_run_params *run,
+                                __global const real *plastic_strain_i,
+                                __global symt *deviatoric_stress_i, __global real *pressure_i,
+                                __global symt *artificial_stress_i)
+{
+#ifdef SPH_PLASTICITY
+    const bool failed = was_failed || particle_failed(m, *plastic_strain_i);
+    if (failed) {
+#pragma unroll
+        for (int a = 0; a < 3; ++a)
+#pragma unroll
+            for (int b = 0; b < 3; ++b)
+                s[a][b] = 0;
+    }
+    *deviatoric_stress_i = symt_store(s);
+    *pressure_i = failed ? fmax(p, (real)0) : p;
+#else
+    (void)m;
+    (void)was_failed;
+    (void)plastic_strain_i;
+    *deviatoric_stress_i = symt_store(s);
+    *pressure_i = p;
+#endif
+#ifdef SPH_ARTIFICIAL_STRESS
+    real sigma[3][3], r[3][3];
+#pragma unroll
+    for (int a = 0; a < 3; ++a)
+#pragma unroll
+        for (int b = 0; b < 3; ++b)
+            sigma[a][b] = s[a][b] - (a == b ? p : (real)0);
+    artificial_stress_tensor(sigma, density, run->as_epsilon, r);
+    *artificial_stress_i = symt_store(r);
+#else
+    (void)density;
+    (void)run;
+    (void)artificial_stress_i;
+#endif
+}
+
 static inline real
 material_update_particle(int i, real l[3][3], real density_rate_i, real dt,
                          __global const real *restrict rho, __global const int *restrict material,
@@ -203,7 +287,7 @@ material_update_particle(int i, real l[3][3], real density_rate_i, real dt,
                          __constant const struct sph_run_params *run, MATERIAL_STATE_ARGS)
 {
     __constant const struct sph_material *m = &materials[material[i]];
-    real s[3][3], d[3][3], w[3][3], rate[3][3];
+    real s[3][3], d[3][3], w[3][3];
     symt_load(deviatoric_stress[i], s);
     strain_rate_and_spin(l, m->plane_stress_nu, d, w);
 #ifdef SPH_AXISYMMETRIC
@@ -215,36 +299,10 @@ material_update_particle(int i, real l[3][3], real density_rate_i, real dt,
     /* a failed particle (thesis 4.3.2) is a fluid: no deviatoric stress,
      * and no tension in the pressure it works with */
     const bool was_failed = (flags[i] & SPH_FLAG_DAMAGED) != 0;
-    jaumann_stress_rate(s, d, w, was_failed ? (real)0 : m->shear_modulus, rate);
-    /* stress power with the mid-step stress (sigma^n + sigma^(n+1)) / 2 and
-     * the half-step strain rate: for an elastic solid this integrates the
-     * strain energy exactly; the SPH form of L makes it the counterpart of
-     * the stress forces' work (see pass2.cl). Its second half uses the
-     * stress after the return (plastic work heats; in plane stress the
-     * return also scales S_zz, so sigma_zz = 0 holds only while the
-     * material is elastic). */
     const real p_old = pressure[i];
-    real power_deviatoric = 0;
     const real trace_d = d[0][0] + d[1][1] + d[2][2];
-#pragma unroll
-    for (int a = 0; a < 3; ++a)
-#pragma unroll
-        for (int b = 0; b < 3; ++b) {
-            power_deviatoric += s[a][b] * d[a][b];
-            s[a][b] += dt * rate[a][b];
-        }
-#ifdef SPH_PLASTICITY
-    if (m->strength != SPH_STRENGTH_ELASTIC)
-        plastic_correction(m, s, d, rho[i], &plastic_strain[i], &temperature[i]);
-#else
-    (void)plastic_strain;
-    (void)temperature;
-#endif
-#pragma unroll
-    for (int a = 0; a < 3; ++a)
-#pragma unroll
-        for (int b = 0; b < 3; ++b)
-            power_deviatoric += s[a][b] * d[a][b];
+    const real power_deviatoric =
+        deviatoric_update(m, s, d, w, was_failed, dt, rho[i], &plastic_strain[i], &temperature[i]);
     /* continuity drho/dt = -rho div v integrated exactly for the step's
      * divergence: rho^(n+1) = rho^n exp(-dt div v), which stays positive
      * where fragments fly apart (the explicit update crosses zero once
@@ -275,34 +333,8 @@ material_update_particle(int i, real l[3][3], real density_rate_i, real dt,
     /* the artificial viscosity and the time step follow the stiffening of
      * compressed material (Monaghan 1992: c_i is particle i's own speed) */
     sound_speed[i] = sound_speed_current(m, density, e);
-#ifdef SPH_PLASTICITY
-    const bool failed = was_failed || particle_failed(m, plastic_strain[i]);
-    if (failed) {
-#pragma unroll
-        for (int a = 0; a < 3; ++a)
-#pragma unroll
-            for (int b = 0; b < 3; ++b)
-                s[a][b] = 0;
-    }
-    deviatoric_stress[i] = symt_store(s);
-    pressure[i] = failed ? fmax(p, (real)0) : p;
-#else
-    deviatoric_stress[i] = symt_store(s);
-    pressure[i] = p;
-#endif
-#ifdef SPH_ARTIFICIAL_STRESS
-    real sigma[3][3], r[3][3];
-#pragma unroll
-    for (int a = 0; a < 3; ++a)
-#pragma unroll
-        for (int b = 0; b < 3; ++b)
-            sigma[a][b] = s[a][b] - (a == b ? p : (real)0);
-    artificial_stress_tensor(sigma, density, run->as_epsilon, r);
-    artificial_stress[i] = symt_store(r);
-#else
-    (void)run;
-    (void)artificial_stress;
-#endif
+    store_stress(m, s, p, density, was_failed, run, &plastic_strain[i], &deviatoric_stress[i],
+                 &pressure[i], &artificial_stress[i]);
     return density;
 }
 
