@@ -46,7 +46,7 @@ static const struct bench_scene {
      TIER_LARGE},
     {"gelatin-axi", "cases/gelatin_silica.yaml", {NULL}, TIER_QUICK | TIER_STANDARD},
     /* the 3-D penetration users run: a graded quarter target with a rigid
-     * sphere (the plain neighbour loop: graded lattices take it) */
+     * sphere */
     {"gelatin3d-120k", "cases/gelatin_silica_3d.yaml", {NULL}, TIER_STANDARD},
     {"gelatin3d-1m", "cases/gelatin_silica_3d.yaml", {"numerics.dx=0.35e-6"}, TIER_LARGE},
     {"gelatin3d-10m", "cases/gelatin_silica_3d.yaml", {"numerics.dx=0.159e-6"}, TIER_NAMED},

@@ -186,8 +186,9 @@ struct solver {
 double solver_max_sound_speed(const struct sph_case *c);
 
 /* Particles per work-item of the lane passes (kernels/lanes.cl), or 0 where
- * the plain passes run: numerics.neighbour_loop plain, graded lattices,
- * axisymmetric cases and the total Lagrangian form. */
+ * the plain passes run: numerics.neighbour_loop plain, axisymmetric cases
+ * and the total Lagrangian form (graded lattices take the lanes since
+ * session 15: each lane's pair h). */
 #define SPH_LANES_DEFAULT 8
 int solver_lanes(const struct sph_case *c);
 /* Whether some body of the case has a graded lattice (SPH_GRADED). */

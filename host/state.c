@@ -49,9 +49,8 @@ int solver_case_graded(const struct sph_case *c)
 
 int solver_lanes(const struct sph_case *c)
 {
-    const int graded = solver_case_graded(c);
     const int axisymmetric = c->dimension == 2 && c->plane == SPH_PLANE_AXISYMMETRIC;
-    return c->numerics.plain_loops || graded || axisymmetric || c->numerics.total_lagrangian
+    return c->numerics.plain_loops || axisymmetric || c->numerics.total_lagrangian
                ? 0
                : SPH_LANES_DEFAULT;
 }

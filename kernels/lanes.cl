@@ -51,8 +51,20 @@ typedef int16 maskv;
 #error "SPH_LANES must be 4, 8 or 16"
 #endif
 
-#if defined(SPH_GRADED) || defined(SPH_AXISYMMETRIC)
-#error "the lane passes serve uniform plane and 3-D lattices (host/state.c picks the plain passes)"
+#ifdef SPH_AXISYMMETRIC
+#error "the lane passes serve plane and 3-D lattices (host/state.c picks the plain passes)"
+#endif
+#if defined(SPH_GRADED) && defined(SPH_ARTIFICIAL_STRESS)
+#error "graded lattices take no artificial stress (host/case.c)"
+#endif
+
+/* The pair's smoothing length: one number on a uniform lattice, a lane
+ * vector on a graded one (the mean of the two particles' h, common.cl
+ * PAIR_H), where each lane's particle has its own level. */
+#ifdef SPH_GRADED
+typedef realv hreal;
+#else
+typedef real hreal;
 #endif
 
 #ifdef SPH_DOUBLE
@@ -156,16 +168,22 @@ static inline realv shape_dq_over_q_v(realv q)
 /* W of q = r / h: the pair loops form q with a product by 1 / h
  * and keep their divisions out of the per-candidate work, since a vector
  * division costs many multiply-adds on a CPU (docs/performance.md). */
-static inline realv kernel_w_q_v(realv q, real h)
+/* 1 / h^dim, as sph_inv_h_pow (smoothing.cl) */
+static inline hreal inv_h_pow_v(hreal h)
 {
-    return sph_kernel_sigma(SPH_KERNEL, SPH_DIM) * sph_inv_h_pow(h, SPH_DIM) * shape_v(q);
+    const hreal ih = (real)1 / h;
+    return SPH_DIM == 2 ? ih * ih : ih * ih * ih;
+}
+
+static inline realv kernel_w_q_v(realv q, hreal h)
+{
+    return sph_kernel_sigma(SPH_KERNEL, SPH_DIM) * inv_h_pow_v(h) * shape_v(q);
 }
 
 /* (dW/dr) / r of q = r / h, for grad_i W_ij = (dW/dr) / r x_ij */
-static inline realv kernel_dwdr_over_r_q_v(realv q, real h)
+static inline realv kernel_dwdr_over_r_q_v(realv q, hreal h)
 {
-    return sph_kernel_sigma(SPH_KERNEL, SPH_DIM) * sph_inv_h_pow(h, SPH_DIM) / (h * h) *
-           shape_dq_over_q_v(q);
+    return sph_kernel_sigma(SPH_KERNEL, SPH_DIM) * inv_h_pow_v(h) / (h * h) * shape_dq_over_q_v(q);
 }
 
 /* Whether any lane of a mask is set. OpenCL's any() on a vector mask runs
@@ -204,7 +222,17 @@ struct lane_block {
     int first;
     maskv live;
     int4 lo, hi;
+#ifdef SPH_GRADED
+    int reach;   /* cells the widest lane's search reaches (its flags) */
+    realv scale; /* each lane's spacing over the finest, 2^level */
+#endif
 };
+
+#ifdef SPH_GRADED
+#define LANE_REACH(b) ((b).reach)
+#else
+#define LANE_REACH(b) SPH_GRID_SPLIT
+#endif
 
 static inline int lane_block_setup(struct lane_block *b, __global const int *restrict flags,
                                    __global const ulong *restrict sort_keys, int4 grid_dims,
@@ -215,10 +243,19 @@ static inline int lane_block_setup(struct lane_block *b, __global const int *res
     b->hi = (int4)(INT_MIN);
     mask_union live;
     int any_live = 0;
+#ifdef SPH_GRADED
+    lanes_union scale;
+    b->reach = 0;
+#endif
     for (int l = 0; l < SPH_LANES; ++l) {
         const int i = b->first + l;
         const int ok = i < n && !(flags[i] & SPH_FLAG_GHOST);
         live.s[l] = ok ? -1 : 0;
+#ifdef SPH_GRADED
+        scale.s[l] = ok ? spacing_scale(flags[i]) : (real)1;
+        if (ok)
+            b->reach = max(b->reach, NEIGHBOUR_REACH(i));
+#endif
         if (ok) {
             const int4 c = grid_cell_coords((int)(sort_keys[i] >> 32), grid_dims);
             b->lo = min(b->lo, c);
@@ -227,8 +264,17 @@ static inline int lane_block_setup(struct lane_block *b, __global const int *res
         }
     }
     b->live = live.v;
+#ifdef SPH_GRADED
+    b->scale = scale.v;
+#endif
     return any_live;
 }
+
+/* The pair smoothing length of the lanes with candidate j; on a uniform
+ * lattice run->h, set once before the loop. */
+#ifdef SPH_GRADED
+#define LANE_PAIR_H(b, j) ((real)0.5 * run->h * ((b).scale + spacing_scale(flags[j])))
+#endif
 
 /* Whether lane l of a block holds a particle its pass updates (set up by
  * lane_block_setup: not past n, not a ghost). */
@@ -243,14 +289,14 @@ static inline bool lane_live(const struct lane_block *b, int l)
  * every j in the cells within SPH_GRID_SPLIT of the block's box; rows of
  * cells are contiguous in the sorted order, as in FOR_EACH_NEIGHBOUR. */
 #define FOR_EACH_LANE_NEIGHBOUR(b, j)                                                              \
-    for (int cz_ = max((b).lo.z - GRID_DZ * SPH_GRID_SPLIT, 0);                                    \
-         cz_ <= min((b).hi.z + GRID_DZ * SPH_GRID_SPLIT, grid_dims.z - 1); ++cz_)                  \
-        for (int cy_ = max((b).lo.y - SPH_GRID_SPLIT, 0);                                          \
-             cy_ <= min((b).hi.y + SPH_GRID_SPLIT, grid_dims.y - 1); ++cy_) {                      \
+    for (int cz_ = max((b).lo.z - GRID_DZ * LANE_REACH(b), 0);                                     \
+         cz_ <= min((b).hi.z + GRID_DZ * LANE_REACH(b), grid_dims.z - 1); ++cz_)                   \
+        for (int cy_ = max((b).lo.y - LANE_REACH(b), 0);                                           \
+             cy_ <= min((b).hi.y + LANE_REACH(b), grid_dims.y - 1); ++cy_) {                       \
             const int row_ = (cz_ * grid_dims.y + cy_) * grid_dims.x;                              \
             const int2 span_ =                                                                     \
-                cell_row_span(cell_start, cell_end, row_, max((b).lo.x - SPH_GRID_SPLIT, 0),       \
-                              min((b).hi.x + SPH_GRID_SPLIT, grid_dims.x - 1));                    \
+                cell_row_span(cell_start, cell_end, row_, max((b).lo.x - LANE_REACH(b), 0),        \
+                              min((b).hi.x + LANE_REACH(b), grid_dims.x - 1));                     \
             for (int j = span_.x; j < span_.y; ++j) {
 
 #define END_FOR_EACH_LANE_NEIGHBOUR                                                                \
@@ -261,7 +307,7 @@ static inline bool lane_live(const struct lane_block *b, int l)
  * lanes for which j is a neighbour: within the support and not j itself
  * (r > 0; a lane that is not live sits at LANE_FAR, lane_positions). One
  * vector test per candidate, so it holds no more than it must. */
-static inline maskv lane_pair(realv xi[3], vec xj, real support2, realv xij[3], realv *r2)
+static inline maskv lane_pair(realv xi[3], vec xj, hreal support2, realv xij[3], realv *r2)
 {
 #pragma unroll
     for (int a = 0; a < 3; ++a)
@@ -323,7 +369,11 @@ __kernel void pass1_lanes(__global const vec *restrict pos, __global const vec *
     if ((int)get_global_id(0) * SPH_LANES >= n ||
         !lane_block_setup(&b, flags, sort_keys, grid_dims, n))
         return;
+#ifdef SPH_GRADED
+    const real q2 = (run->support / run->h) * (run->support / run->h); /* (support / h)^2 */
+#else
     const real h = run->h, inv_h = (real)1 / h, support2 = run->support * run->support;
+#endif
     realv xi[3], vi[3];
     lane_positions(pos, &b, n, xi);
     gather_vec(vel, &b, n, vi);
@@ -336,6 +386,9 @@ __kernel void pass1_lanes(__global const vec *restrict pos, __global const vec *
     FOR_EACH_LANE_NEIGHBOUR(b, j)
     {
         realv xij[3], r2;
+#ifdef SPH_GRADED
+        const hreal h = LANE_PAIR_H(b, j), inv_h = (real)1 / h, support2 = q2 * h * h;
+#endif
         const maskv near = lane_pair(xi, pos[j], support2, xij, &r2);
         if (!lanes_any(near))
             continue;
@@ -431,7 +484,7 @@ static inline realv av_limiter_v(realv g_i, realv g_j, realv eta, real eta_crit)
 }
 
 /* limited_jump (pass2.cl) per lane: jump = v_ij - phi / 2 (L_i + L_j) x_ij */
-static inline void limited_jump_v(realv vij[3], realv xij[3], realv r, real inv_h, realv l_i[3][3],
+static inline void limited_jump_v(realv vij[3], realv xij[3], realv r, hreal inv_h, realv l_i[3][3],
                                   __global const fullt *restrict velocity_gradient, int j,
                                   __constant const struct sph_run_params *run, realv jump[3])
 {
@@ -491,7 +544,11 @@ pass2_lanes(__global const vec *restrict pos, __global const vec *restrict pos0,
     if ((int)get_global_id(0) * SPH_LANES >= n ||
         !lane_block_setup(&b, flags, sort_keys, grid_dims, n))
         return;
+#ifdef SPH_GRADED
+    const real q2 = (run->support / run->h) * (run->support / run->h); /* (support / h)^2 */
+#else
     const real h = run->h, inv_h = (real)1 / h, support2 = run->support * run->support;
+#endif
     realv xi[3], vi[3], sigma_i[3][3];
     lane_positions(pos, &b, n, xi);
     gather_vec(vel, &b, n, vi);
@@ -543,6 +600,9 @@ pass2_lanes(__global const vec *restrict pos, __global const vec *restrict pos0,
     FOR_EACH_LANE_NEIGHBOUR(b, j)
     {
         realv xij[3], r2;
+#ifdef SPH_GRADED
+        const hreal h = LANE_PAIR_H(b, j), inv_h = (real)1 / h, support2 = q2 * h * h;
+#endif
         const maskv near = lane_pair(xi, pos[j], support2, xij, &r2);
         if (!lanes_any(near))
             continue;
