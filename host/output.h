@@ -63,6 +63,7 @@ struct history_row {
 /* The figures a run ends with (summary line and summary.json). */
 struct run_summary {
     const char *case_name, *device, *status, *message, *precision;
+    const char *neighbour_loop; /* "lanes" or "plain": the passes that ran */
     int particles, dimension;
     long steps;
     double end_time, wall_time_s, steps_per_s;
