@@ -42,7 +42,9 @@ static void read_reals(struct solver *s, cl_mem m, size_t count, double *out)
                                      NULL, NULL));
         return;
     }
-    float *tmp = calloc(count, sizeof(float));
+    float *tmp = CHECKED_CALLOC(count, sizeof(float), "projectile read-back");
+    if (!tmp)
+        return;
     CL_CHECK(clEnqueueReadBuffer(s->dev->queue, m, CL_TRUE, 0, count * sizeof(float), tmp, 0, NULL,
                                  NULL));
     for (size_t k = 0; k < count; ++k)
@@ -230,7 +232,9 @@ static void read_cavity(struct solver *s, struct projectile_reading *out)
     solver_launch(s, s->k.projectile_cavity, (size_t)s->reduce_groups * REDUCE_GROUP_SIZE,
                   REDUCE_GROUP_SIZE);
     const size_t width = 2 * SPH_MAX_CAVITY_PROBES;
-    double *v = calloc(width * (size_t)s->reduce_groups, sizeof(double));
+    double *v = CHECKED_CALLOC(width * (size_t)s->reduce_groups, sizeof(double), "cavity partials");
+    if (!v)
+        return;
     read_reals(s, s->partials, width * (size_t)s->reduce_groups, v);
     for (int k = 0; k < SPH_MAX_CAVITY_PROBES; ++k) {
         double empty = HUGE_VAL, damaged = 0;

@@ -158,6 +158,8 @@ static int run_scene(struct sph_device *dev, const struct bench_scene *b,
     struct sph_scene scene;
     struct solver s;
     char options[512];
+    if (!c)
+        return snprintf(error, error_size, "out of host memory") > 0;
     int failed = case_load(path, set_count, sets, c, error, error_size) ||
                  scene_build(c, &scene, error, error_size);
     if (failed) {
@@ -247,6 +249,11 @@ int bench_main(const struct bench_options *o)
     const int tier = o->quick ? TIER_QUICK : TIER_STANDARD | (o->large ? TIER_LARGE : 0);
     const int count = (int)(sizeof suite / sizeof suite[0]);
     struct scene_result *results = calloc((size_t)count, sizeof *results);
+    if (!results) {
+        fprintf(stderr, "sph bench: out of host memory\n");
+        device_close(&dev);
+        return 2;
+    }
     struct device_ceilings ceil = {0, 0};
     int done = 0, code = 0, have_ceilings = 0;
     for (int k = 0; k < count && code == 0; ++k) {

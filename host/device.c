@@ -68,7 +68,7 @@ const char *cl_error_name(cl_int code)
 }
 
 static struct {
-    int failed;
+    int failed, host_memory;
     char message[512];
     long calls, fail_at; /* checked calls so far; SPH_FAIL_CL_CALL (0: none) */
     int fail_at_read;
@@ -82,6 +82,33 @@ void cl_fail(const char *call, cl_int code, const char *file, int line)
     snprintf(cl_status.message, sizeof cl_status.message,
              "OpenCL call %.300s failed with %s (%d) at %s:%d", call, cl_error_name(code),
              (int)code, file, line);
+}
+
+void host_alloc_failed(const char *what, size_t bytes, const char *file, int line)
+{
+    if (cl_status.failed)
+        return;
+    cl_status.failed = cl_status.host_memory = 1;
+    snprintf(cl_status.message, sizeof cl_status.message,
+             "out of host memory: %.200s (%zu bytes) at %s:%d", what, bytes, file, line);
+}
+
+void *checked_calloc(size_t count, size_t size, const char *what, const char *file, int line)
+{
+    static long calls, fail_at = -1;
+    if (fail_at < 0) {
+        const char *env = getenv("SPH_FAIL_ALLOC");
+        fail_at = env ? atol(env) : 0;
+    }
+    void *p = ++calls == fail_at ? NULL : calloc(count ? count : 1, size ? size : 1);
+    if (!p)
+        host_alloc_failed(what, count * size, file, line);
+    return p;
+}
+
+const char *cl_failure_status(void)
+{
+    return cl_status.host_memory ? "out_of_memory" : "device_error";
 }
 
 int cl_failed(void)
@@ -305,8 +332,10 @@ static char *assemble_source(const char *source_dir, char *error, size_t error_s
 {
     size_t total = 0, capacity = 1 << 16;
     char *source = malloc(capacity);
-    if (!source)
+    if (!source) {
+        snprintf(error, error_size, "out of host memory for the kernel source");
         return NULL;
+    }
     source[0] = '\0';
     for (size_t k = 0; k < sizeof source_files / sizeof source_files[0]; ++k) {
         char path[2048];

@@ -42,7 +42,20 @@ const char *cl_error_name(cl_int code);
  * CL_OUT_OF_RESOURCES (fault injection for the tests). */
 void cl_fail(const char *call, cl_int code, const char *file, int line);
 int cl_failed(void);
-const char *cl_failure(void);   /* the recorded message, "" before any failure */
+const char *cl_failure(void); /* the recorded message, "" before any failure */
+/* A host allocation that failed is recorded the same way ("out of host
+ * memory: <what> (<bytes> bytes) at <file>:<line>"), so that the run
+ * unwinds as after a failed OpenCL call; the caller returns without using
+ * the pointer. cl_failure_status() says which: "device_error" or
+ * "out_of_memory" (summary.json's status). */
+void host_alloc_failed(const char *what, size_t bytes, const char *file, int line);
+#define ALLOC_FAILED(what, bytes) host_alloc_failed((what), (bytes), __FILE__, __LINE__)
+const char *cl_failure_status(void);
+/* calloc that records its failure as above (count or size 0: one byte);
+ * SPH_FAIL_ALLOC=N makes the N-th one fail (fault injection for the tests) */
+void *checked_calloc(size_t count, size_t size, const char *what, const char *file, int line);
+#define CHECKED_CALLOC(count, size, what)                                                          \
+    checked_calloc((count), (size), (what), __FILE__, __LINE__)
 cl_int cl_checked(cl_int code); /* code, or the injected fault */
 
 #define CL_CHECK(call)                                                                             \

@@ -55,7 +55,9 @@ void solver_ghosts_setup(struct solver *s, const struct sph_case *c, const struc
     /* graded lattices: a particle's pairs reach 1.5 of its own supports
      * (the mean smoothing length with a coarser neighbour); every pair
      * across a plane then has both images, and stays equal and opposite */
-    g->scale = malloc(sizeof(double) * (size_t)scene->count + 1);
+    g->scale = CHECKED_CALLOC((size_t)scene->count + 1, sizeof(double), "ghost scales");
+    if (!g->scale) /* recorded: solver_create returns it */
+        return;
     for (int p = 0; p < scene->count; ++p) {
         const int level = (scene->flags[p] >> SPH_LEVEL_SHIFT) & SPH_LEVEL_MASK;
         g->scale[p] = s->graded ? 1.5 * (1 << level) : 1.0;
@@ -199,8 +201,12 @@ static double *real_positions(struct solver *s)
 {
     const int width = s->dim == 2 ? 2 : 4;
     const size_t r = s->element_size[ELEM_REAL], count = (size_t)s->n_real * width;
-    unsigned char *raw = calloc(count * r + 1, 1);
-    double *x = calloc((size_t)s->n_real * 3 + 1, sizeof(double));
+    unsigned char *raw = CHECKED_CALLOC(count * r + 1, 1, "positions read-back");
+    double *x = CHECKED_CALLOC((size_t)s->n_real * 3 + 1, sizeof(double), "positions");
+    if (!raw || !x) {
+        free(raw), free(x);
+        return NULL;
+    }
     CL_CHECK(clEnqueueReadBuffer(s->dev->queue, s->field[FIELD_POS], CL_TRUE, 0, count * r, raw, 0,
                                  NULL, NULL));
     for (int p = 0; p < s->n_real; ++p)
@@ -225,8 +231,12 @@ int solver_ghosts_rebuild(struct solver *s, char *error, size_t error_size)
         return 0;
     compact(s);
     double *x = real_positions(s);
-    int *source = malloc(sizeof(int) * (size_t)g->capacity + 1);
-    int *mask = malloc(sizeof(int) * (size_t)g->capacity + 1);
+    int *source = CHECKED_CALLOC((size_t)g->capacity + 1, sizeof(int), "ghost sources");
+    int *mask = CHECKED_CALLOC((size_t)g->capacity + 1, sizeof(int), "ghost masks");
+    if (!x || !source || !mask) {
+        free(x), free(source), free(mask);
+        return snprintf(error, error_size, "%s", cl_failure()) > 0;
+    }
     int count = 0, overflow = 0, masks[7];
     for (int p = 0; p < s->n_real; ++p) {
         const int m = images(g, &x[3 * p], g->scale[p], s->dim, masks);

@@ -196,6 +196,10 @@ static int command_check(int argc, char **argv)
     struct sph_case *c = calloc(1, sizeof *c);
     char error[SPH_ERROR_MAX];
     int code = 0;
+    if (!c) {
+        fprintf(stderr, "sph: out of host memory\n");
+        return 1;
+    }
     struct sph_scene scene = {0};
     /* the scene too: what `sph run` refuses before it opens a device
      * (a projectile overlapping the target, a shot that misses it) */

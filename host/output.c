@@ -72,7 +72,9 @@ int output_open(struct output *o, const char *folder, const struct sph_case *c, 
             "energy_error,artificial_viscosity_work_J,hourglass_work_J\n",
             o->probe_name);
     o->snapshot_times = malloc(sizeof(double) * SPH_MAX_SNAPSHOTS);
-    return o->snapshot_times ? 0 : 1;
+    if (!o->snapshot_times)
+        return snprintf(error, error_size, "out of host memory for the snapshot index") > 0;
+    return 0;
 }
 
 void output_history(struct output *o, const struct history_row *r)

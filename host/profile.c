@@ -115,10 +115,10 @@ static int by_time_descending(const void *a, const void *b)
     return (ta < tb) - (ta > tb);
 }
 
-/* The kernels sorted by device time, longest first (caller frees). */
-static struct profile_kernel *sorted(const struct profiler *p)
+/* The kernels sorted by device time, longest first, into rows (room for
+ * PROFILE_MAX_KERNELS). */
+static struct profile_kernel *sorted(const struct profiler *p, struct profile_kernel *rows)
 {
-    struct profile_kernel *rows = malloc(sizeof *rows * (size_t)(p->kernel_count + 1));
     memcpy(rows, p->kernels, sizeof *rows * (size_t)p->kernel_count);
     qsort(rows, (size_t)p->kernel_count, sizeof *rows, by_time_descending);
     return rows;
@@ -128,7 +128,8 @@ void profile_print(const struct profiler *p, const struct device_ceilings *ceili
                    FILE *out)
 {
     const double total = profile_device_seconds(p);
-    struct profile_kernel *rows = sorted(p);
+    struct profile_kernel sorted_rows[PROFILE_MAX_KERNELS];
+    const struct profile_kernel *rows = sorted(p, sorted_rows);
     fprintf(out, "%-28s %8s %10s %10s %6s %8s %6s %8s %6s\n", "kernel", "calls", "us/call",
             "ms/step", "share", "GB/s", "%bw", "GFLOP/s", "%peak");
     for (int k = 0; k < p->kernel_count; ++k) {
@@ -160,12 +161,12 @@ void profile_print(const struct profiler *p, const struct device_ceilings *ceili
                 "read-backs, host work, idle device) %.3f s\n",
                 p->wall_s, total, 100 * total / p->wall_s, p->host_output_s,
                 p->wall_s - total - p->host_output_s);
-    free(rows);
 }
 
 void profile_write_json(const struct profiler *p, long steps, FILE *out)
 {
-    struct profile_kernel *rows = sorted(p);
+    struct profile_kernel sorted_rows[PROFILE_MAX_KERNELS];
+    const struct profile_kernel *rows = sorted(p, sorted_rows);
     const double total = profile_device_seconds(p);
     fprintf(out, "[");
     for (int k = 0; k < p->kernel_count; ++k) {
@@ -182,5 +183,4 @@ void profile_write_json(const struct profiler *p, long steps, FILE *out)
                 e->device_s > 0 ? e->flops / e->device_s / 1e9 : 0.0);
     }
     fprintf(out, "\n  ]");
-    free(rows);
 }

@@ -137,7 +137,8 @@ static int write_snapshot(struct loop *L)
     struct host_fields f;
     char error[512];
     struct snapshot_meta meta = {.time = L->t, .step = L->step};
-    solver_read_fields(L->s, &f);
+    if (solver_read_fields(L->s, &f))
+        return 0; /* out of host memory: recorded, the loop stops at its next check */
     if (L->s->projectile.enabled)
         solver_projectile_motion(L->s, meta.projectile_centre, meta.projectile_velocity);
     const int status = output_snapshot(L->out, &f, &meta, error, sizeof error);
@@ -327,7 +328,7 @@ static int device_failed(struct loop *L)
 {
     if (!cl_failed())
         return 0;
-    L->status = "device_error";
+    L->status = cl_failure_status();
     snprintf(L->message, sizeof L->message, "at step %ld, t = %.6e s: %s", L->step, L->t,
              cl_failure());
     return 1;
@@ -511,7 +512,8 @@ static int open_run(const struct run_options *opt, struct run_resources *r, char
  * the exit status. */
 static int run_and_report(struct loop *L, struct run_resources *r)
 {
-    struct profiler *profile = L->opt->profile ? calloc(1, sizeof *profile) : NULL;
+    struct profiler *profile =
+        L->opt->profile ? CHECKED_CALLOC(1, sizeof *profile, "the profiler") : NULL;
     sph_profiler = profile;
     const double loop_start = profile_clock();
     int code = time_loop(L);
@@ -545,7 +547,7 @@ static int report_start_failure(struct loop *L, struct run_resources *r, const c
     fprintf(stderr, "sph: %s\n", error);
     if (!cl_failed() || !r->out.history)
         return 1;
-    L->status = "device_error";
+    L->status = cl_failure_status();
     snprintf(L->message, sizeof L->message, "before the first step: %s", cl_failure());
     struct run_summary sum;
     finish_summary(L, &sum);

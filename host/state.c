@@ -179,7 +179,9 @@ static cl_mem create_buffer(struct solver *s, size_t bytes)
 static void upload_reals(struct solver *s, cl_mem buffer, const double *values, size_t count)
 {
     const size_t r = s->element_size[ELEM_REAL];
-    unsigned char *tmp = malloc(count * r + 1);
+    unsigned char *tmp = CHECKED_CALLOC(count * r + 1, 1, "upload staging");
+    if (!tmp)
+        return;
     for (size_t k = 0; k < count; ++k) {
         if (s->double_precision)
             memcpy(tmp + k * r, &values[k], r);
@@ -197,7 +199,9 @@ static void upload_reals(struct solver *s, cl_mem buffer, const double *values, 
 static void upload_vectors(struct solver *s, cl_mem buffer, const double *xyz, int n)
 {
     const int width = s->dim == 2 ? 2 : 4;
-    double *wide = calloc((size_t)n * width, sizeof(double));
+    double *wide = CHECKED_CALLOC((size_t)n * width, sizeof(double), "vector upload");
+    if (!wide)
+        return;
     for (int p = 0; p < n; ++p)
         for (int a = 0; a < s->dim; ++a)
             wide[(size_t)p * width + a] = xyz[3 * p + a];
@@ -213,7 +217,9 @@ static void upload_ints(struct solver *s, cl_mem buffer, const int *values, int 
 
 static void zero_buffer(struct solver *s, cl_mem buffer, size_t bytes)
 {
-    void *zeros = calloc(1, bytes ? bytes : 1);
+    void *zeros = CHECKED_CALLOC(1, bytes, "zeros for a buffer");
+    if (!zeros)
+        return;
     CL_CHECK(clEnqueueWriteBuffer(s->dev->queue, buffer, CL_TRUE, 0, bytes, zeros, 0, NULL, NULL));
     free(zeros);
 }
@@ -397,15 +403,17 @@ int solver_create_buffers(struct solver *s, const struct sph_case *c, const stru
     upload_reals(s, s->field[FIELD_MASS], scene->mass, (size_t)s->n_real);
     upload_ints(s, s->field[FIELD_FLAGS], scene->flags, s->n_real);
     upload_ints(s, s->field[FIELD_MATERIAL], scene->material, s->n_real);
-    int *ids = malloc(sizeof(int) * (size_t)s->n_real);
-    for (int p = 0; p < s->n_real; ++p)
+    int *ids = CHECKED_CALLOC((size_t)s->n_real, sizeof(int), "particle ids");
+    double *temperature = CHECKED_CALLOC((size_t)s->n_real, sizeof(double), "temperatures");
+    for (int p = 0; ids && temperature && p < s->n_real; ++p) {
         ids[p] = p;
-    upload_ints(s, s->field[FIELD_ID], ids, s->n_real);
-    free(ids);
-    double *temperature = malloc(sizeof(double) * (size_t)s->n_real);
-    for (int p = 0; p < s->n_real; ++p)
         temperature[p] = c->materials[scene->material[p]].room_temperature;
-    upload_reals(s, s->field[FIELD_TEMPERATURE], temperature, (size_t)s->n_real);
+    }
+    if (ids && temperature) {
+        upload_ints(s, s->field[FIELD_ID], ids, s->n_real);
+        upload_reals(s, s->field[FIELD_TEMPERATURE], temperature, (size_t)s->n_real);
+    }
+    free(ids);
     free(temperature);
     /* the pressure, sound speed and artificial stress of the initial state
      * are written by solver_prime's material update, before anything reads
@@ -457,8 +465,12 @@ void solver_release_buffers(struct solver *s)
 static double *read_reals(struct solver *s, enum field f, int width)
 {
     const size_t r = s->element_size[ELEM_REAL], count = (size_t)s->n * width;
-    unsigned char *raw = calloc(count * r + 1, 1);
-    double *out = calloc(count + 1, sizeof(double));
+    unsigned char *raw = CHECKED_CALLOC(count * r + 1, 1, "field read-back");
+    double *out = CHECKED_CALLOC(count + 1, sizeof(double), "field read-back");
+    if (!raw || !out) {
+        free(raw), free(out);
+        return NULL;
+    }
     CL_CHECK(
         clEnqueueReadBuffer(s->dev->queue, s->field[f], CL_TRUE, 0, count * r, raw, 0, NULL, NULL));
     for (size_t k = 0; k < count; ++k) {
@@ -476,31 +488,37 @@ static double *read_reals(struct solver *s, enum field f, int width)
 
 static int *read_ints(struct solver *s, enum field f)
 {
-    int *out = calloc((size_t)s->n + 1, sizeof(int));
+    int *out = CHECKED_CALLOC((size_t)s->n + 1, sizeof(int), "field read-back");
+    if (!out)
+        return NULL;
     CL_CHECK(clEnqueueReadBuffer(s->dev->queue, s->field[f], CL_TRUE, 0,
                                  sizeof(cl_int) * (size_t)s->n, out, 0, NULL, NULL));
     return out;
 }
 
-static void allocate_fields(struct host_fields *o, int n)
+/* Returns non-zero (the failure recorded, host/device.h) when host memory
+ * ran out; o is then freed. */
+static int allocate_fields(struct host_fields *o, int n)
 {
     memset(o, 0, sizeof *o);
     o->n = n;
-    o->pos = calloc((size_t)n * 3, sizeof(double));
-    o->vel = calloc((size_t)n * 3, sizeof(double));
-    o->disp = calloc((size_t)n * 3, sizeof(double));
-    o->stress = calloc((size_t)n * 6, sizeof(double));
-    o->rho = calloc((size_t)n, sizeof(double));
-    o->pressure = calloc((size_t)n, sizeof(double));
-    o->energy = calloc((size_t)n, sizeof(double));
-    o->plastic_strain = calloc((size_t)n, sizeof(double));
-    o->temperature = calloc((size_t)n, sizeof(double));
-    o->von_mises = calloc((size_t)n, sizeof(double));
-    o->mass = calloc((size_t)n, sizeof(double));
-    o->smoothing_length = calloc((size_t)n, sizeof(double));
-    o->flags = calloc((size_t)n, sizeof(int));
-    o->material = calloc((size_t)n, sizeof(int));
-    o->id = calloc((size_t)n, sizeof(int));
+    const size_t m = (size_t)n;
+    double **reals[] = {&o->rho,         &o->pressure,  &o->energy, &o->plastic_strain,
+                        &o->temperature, &o->von_mises, &o->mass,   &o->smoothing_length};
+    o->pos = CHECKED_CALLOC(m * 3, sizeof(double), "snapshot positions");
+    o->vel = CHECKED_CALLOC(m * 3, sizeof(double), "snapshot velocities");
+    o->disp = CHECKED_CALLOC(m * 3, sizeof(double), "snapshot displacements");
+    o->stress = CHECKED_CALLOC(m * 6, sizeof(double), "snapshot stresses");
+    int ok = o->pos && o->vel && o->disp && o->stress;
+    for (size_t k = 0; k < sizeof reals / sizeof reals[0]; ++k)
+        ok &= (*reals[k] = CHECKED_CALLOC(m, sizeof(double), "snapshot field")) != NULL;
+    o->flags = CHECKED_CALLOC(m, sizeof(int), "snapshot flags");
+    o->material = CHECKED_CALLOC(m, sizeof(int), "snapshot materials");
+    o->id = CHECKED_CALLOC(m, sizeof(int), "snapshot ids");
+    if (ok && o->flags && o->material && o->id)
+        return 0;
+    host_fields_free(o);
+    return 1;
 }
 
 /* Deviatoric stress (device symt: xx, yy, zz, xy, xz, yz) + pressure to the
@@ -530,8 +548,9 @@ int solver_read_fields(struct solver *s, struct host_fields *o)
     int *id = read_ints(s, FIELD_ID), *flags = read_ints(s, FIELD_FLAGS);
     int *mat = read_ints(s, FIELD_MATERIAL);
     double *mass = read_reals(s, FIELD_MASS, 1);
-    allocate_fields(o, s->n_real);
-    for (int k = 0; k < s->n; ++k) {
+    const int failed = !pos || !pos0 || !vel || !rho || !p || !e || !ep || !dev || !temperature ||
+                       !id || !flags || !mat || !mass || allocate_fields(o, s->n_real);
+    for (int k = 0; !failed && k < s->n; ++k) {
         const int q = id[k]; /* back to the scene's particle order */
         if (q >= s->n_real)
             continue; /* a symmetry-plane ghost */
@@ -557,7 +576,7 @@ int solver_read_fields(struct solver *s, struct host_fields *o)
     free(pos), free(pos0), free(vel), free(rho), free(p), free(e), free(ep), free(dev);
     free(temperature), free(mass);
     free(id), free(flags), free(mat);
-    return 0;
+    return failed;
 }
 
 void host_fields_free(struct host_fields *f)

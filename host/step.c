@@ -538,7 +538,12 @@ void solver_neighbour_counts(struct solver *s, int *count_by_id)
              MEM(s->field[FIELD_FLAGS]), GRID_ARG_LIST(s, dims), MEM(s->run_params),
              MEM(s->gather_spare), INT(s->n));
     solver_launch(s, s->k.neighbour_count, (size_t)s->n, 0);
-    int *count = calloc((size_t)s->n, sizeof(int)), *id = calloc((size_t)s->n, sizeof(int));
+    int *count = CHECKED_CALLOC((size_t)s->n, sizeof(int), "neighbour counts");
+    int *id = CHECKED_CALLOC((size_t)s->n, sizeof(int), "neighbour count ids");
+    if (!count || !id) {
+        free(count), free(id);
+        return;
+    }
     CL_CHECK(clEnqueueReadBuffer(s->dev->queue, s->gather_spare, CL_TRUE, 0,
                                  sizeof(int) * (size_t)s->n, count, 0, NULL, NULL));
     CL_CHECK(clEnqueueReadBuffer(s->dev->queue, s->field[FIELD_ID], CL_TRUE, 0,
