@@ -31,6 +31,16 @@ static int in_coarse_shells(const struct sph_case *c, const double x[3])
     return 0;
 }
 
+/* Records the first time of an event (*when < 0 until then); returns
+ * whether to say so now. */
+static int first_time(double *when, struct run_clock at)
+{
+    if (*when >= 0)
+        return 0;
+    *when = at.t;
+    return !at.quiet;
+}
+
 /* The first time the sphere's nose enters coarse shells: the depth from
  * then on is not refined by numerics.dx, so a convergence study must not
  * reach it (docs/shock_capturing.md, SEBS). */
@@ -41,10 +51,7 @@ static void watch_fine_region(struct ballistics_track *b, const struct projectil
     double nose[3];
     for (int a = 0; a < 3; ++a)
         nose[a] = p->position[a] + proj->radius * proj->axis[a];
-    if (b->left_fine_time >= 0 || !in_coarse_shells(c, nose))
-        return;
-    b->left_fine_time = at.t;
-    if (!at.quiet)
+    if (b->left_fine_time < 0 && in_coarse_shells(c, nose) && first_time(&b->left_fine_time, at))
         fprintf(stderr,
                 "\nsph: at t = %.6e s the sphere's nose (%.4g m deep) left the graded lattice's "
                 "fine region: from here on its depth does not refine with numerics.dx\n",
@@ -57,10 +64,7 @@ static void watch_fine_region(struct ballistics_track *b, const struct projectil
 static void watch_perforation(struct ballistics_track *b, const struct projectile_reading *p,
                               struct run_clock at)
 {
-    if (b->exit_time >= 0 || !p->through)
-        return;
-    b->exit_time = at.t;
-    if (!at.quiet)
+    if (p->through && first_time(&b->exit_time, at))
         fprintf(stderr,
                 "\nsph: at t = %.6e s the sphere is through the target (perforated) at "
                 "%.6g m/s\n",
