@@ -78,8 +78,8 @@ static double particle_spacing(const struct sph_case *c, const struct sph_scene 
 }
 
 /* Where the shot line origin + s u enters and leaves the target, m along
- * u: over the particles whose centre lies within one own spacing of the
- * line, the smallest x . u less half a spacing and the largest plus half a
+ * u: over the particles whose centre lies within sqrt(dim) / 2 own
+ * spacings of the line, the smallest x . u less half a spacing and the largest plus half a
  * spacing. The extreme particle of the whole target is not the face the
  * sphere meets once the shot is oblique or the face is not flat. Entry is
  * HUGE_VAL and exit -HUGE_VAL when the line misses the target. */
@@ -88,6 +88,10 @@ static void shot_line_faces(const struct sph_case *c, const struct sph_scene *sc
                             double *exit)
 {
     *entry = HUGE_VAL, *exit = -HUGE_VAL;
+    /* a cylinder of radius sqrt(dim) / 2 spacings holds a particle of any
+     * lattice the line crosses, and on a face tilted by theta its particles'
+     * faces spread by no more than that radius times tan theta */
+    const double reach2 = 0.25 * c->dimension;
     for (int i = 0; i < scene->count; ++i) {
         const double spacing = particle_spacing(c, scene, i);
         double r[3], along = 0, off2 = 0;
@@ -95,7 +99,7 @@ static void shot_line_faces(const struct sph_case *c, const struct sph_scene *sc
             r[a] = scene->position[3 * i + a] - origin[a], along += r[a] * axis[a];
         for (int a = 0; a < 3; ++a)
             off2 += (r[a] - along * axis[a]) * (r[a] - along * axis[a]);
-        if (off2 > spacing * spacing)
+        if (off2 > reach2 * spacing * spacing)
             continue;
         const double x_along = along + dot3(origin, axis);
         *entry = fmin(*entry, x_along - 0.5 * spacing);
