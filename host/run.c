@@ -473,8 +473,8 @@ static void close_run(struct run_resources *r)
     free(r->c);
 }
 
-/* Case, scene, device, program and solver. Returns 0, or the exit status
- * (1 bad input, 2 device) with the reason in `error`. */
+/* Case, scene, device and program, and the run folder's name. Returns 0,
+ * or the exit status (1 bad input, 2 device) with the reason in `error`. */
 static int open_run(const struct run_options *opt, struct run_resources *r, char *error,
                     size_t size)
 {
@@ -492,20 +492,24 @@ static int open_run(const struct run_options *opt, struct run_resources *r, char
     if (c->numerics.double_precision && !r->dev.has_double)
         return 2 * (snprintf(error, size, "%s has no double precision; use precision: float",
                              r->dev.name) > 0);
-    if (device_build(&r->dev, device_source_dir(), options, error, size) ||
-        solver_create(&r->s, &r->dev, c, &r->scene, error, size))
+    if (device_build(&r->dev, device_source_dir(), options, error, size))
         return 2;
     if (opt->out_dir)
         snprintf(r->folder, sizeof r->folder, "%s", opt->out_dir);
     else
         default_folder(c, r->folder, sizeof r->folder);
+    return 0;
+}
+
+static void say_what_runs(const struct run_options *opt, const struct run_resources *r)
+{
+    const struct sph_case *c = r->c;
     if (!opt->quiet)
         fprintf(stderr,
                 "sph: %s: %d particles (%d-D), %s kernel, h = %.3g m, on %s%s; writing %s\n",
                 c->name, r->scene.count, c->dimension, case_kernel_name(c->numerics.kernel),
                 (double)r->s.run.h, r->dev.name, r->dev.from_cache ? " (cached program)" : "",
                 r->folder);
-    return 0;
 }
 
 /* The time loop, the profile, summary.json and the summary line. Returns
@@ -579,11 +583,19 @@ int run_case(const struct run_options *opt)
                      .wall_start = wall_seconds(),
                      .health = {.first_unhealthy_time = -1, .min_pair_distance = HUGE_VAL},
                      .ballistics = {.left_fine_time = -1, .exit_time = -1}};
-    if (output_open(&r->out, r->folder, r->c, r->scene.count, error, sizeof error) == 0 &&
-        start(&L, error, sizeof error) == 0)
-        code = run_and_report(&L, r);
-    else
+    /* the folder before the solver: a case the device cannot hold (its
+     * buffers) still leaves a summary.json that says so */
+    if (output_open(&r->out, r->folder, r->c, r->scene.count, error, sizeof error)) {
+        fprintf(stderr, "sph: %s\n", error);
+        code = 1;
+    } else if (solver_create(&r->s, &r->dev, r->c, &r->scene, error, sizeof error)) {
         code = report_start_failure(&L, r, error);
+        code = code == 1 ? 2 : code; /* a solver that cannot be made is the device's */
+    } else {
+        say_what_runs(opt, r);
+        code = start(&L, error, sizeof error) == 0 ? run_and_report(&L, r)
+                                                   : report_start_failure(&L, r, error);
+    }
     health_watch_close(&L.health);
     close_run(r);
     free(r);
