@@ -157,6 +157,17 @@ int projectile_check_scene(const struct sph_case *c, const struct sph_scene *sce
     return 0;
 }
 
+/* The projectile's kernels, one list for making and releasing them. */
+#define PROJECTILE_KERNELS 3
+static int projectile_kernels(struct solver *s, struct kernel_slot slots[PROJECTILE_KERNELS])
+{
+    const struct kernel_slot list[] = {{&s->k.projectile_contact, "projectile_contact"},
+                                       {&s->k.projectile_advance, "projectile_advance"},
+                                       {&s->k.projectile_cavity, "projectile_cavity"}};
+    memcpy(slots, list, sizeof list);
+    return PROJECTILE_KERNELS;
+}
+
 int solver_projectile_create(struct solver *s, const struct sph_case *c,
                              const struct sph_scene *scene, char *error, size_t error_size)
 {
@@ -192,9 +203,8 @@ int solver_projectile_create(struct solver *s, const struct sph_case *c,
         state[SPH_PROJ_V + a] = cp->velocity[a];
     }
     write_state(s, state);
-    s->k.projectile_contact = solver_make_kernel(s, "projectile_contact");
-    s->k.projectile_advance = solver_make_kernel(s, "projectile_advance");
-    s->k.projectile_cavity = solver_make_kernel(s, "projectile_cavity");
+    struct kernel_slot slots[PROJECTILE_KERNELS];
+    solver_make_kernels(s, slots, projectile_kernels(s, slots));
     return 0;
 }
 
@@ -293,10 +303,8 @@ void solver_projectile_motion(struct solver *s, double centre[3], double velocit
 void solver_projectile_release(struct solver *s)
 {
     struct projectile *p = &s->projectile;
-    cl_kernel *k[] = {&s->k.projectile_contact, &s->k.projectile_advance, &s->k.projectile_cavity};
-    for (size_t i = 0; i < sizeof k / sizeof k[0]; ++i)
-        if (*k[i])
-            clReleaseKernel(*k[i]), *k[i] = NULL;
+    struct kernel_slot slots[PROJECTILE_KERNELS];
+    solver_release_kernels(slots, projectile_kernels(s, slots));
     if (p->state)
         clReleaseMemObject(p->state);
     if (p->contact_partials)

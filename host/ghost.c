@@ -70,6 +70,25 @@ void solver_ghosts_setup(struct solver *s, const struct sph_case *c, const struc
     s->capacity = scene->count + g->capacity;
 }
 
+/* The ghosts' kernels, one list for making and releasing them. */
+#define GHOST_KERNELS 8
+static int ghost_kernels(struct ghosts *g, struct kernel_slot slots[GHOST_KERNELS])
+{
+    const struct kernel_slot list[] = {
+        {&g->index_kernel, "ghost_index_of_id"},
+        {&g->id_keys, "ghost_id_keys"},
+        {&g->init, "ghost_init"},
+        {&g->refresh[ELEM_REAL], "ghost_refresh_real"},
+        {&g->refresh[ELEM_INT], "ghost_refresh_int"},
+        {&g->refresh[ELEM_VEC], "ghost_refresh_vec"},
+        {&g->refresh[ELEM_SYMT], "ghost_refresh_symt"},
+        {&g->refresh[ELEM_FULLT], "ghost_refresh_fullt"},
+    };
+    _Static_assert(sizeof list / sizeof list[0] == GHOST_KERNELS, "GHOST_KERNELS");
+    memcpy(slots, list, sizeof list);
+    return GHOST_KERNELS;
+}
+
 int solver_ghosts_create(struct solver *s, char *error, size_t error_size)
 {
     struct ghosts *g = &s->ghosts;
@@ -85,14 +104,8 @@ int solver_ghosts_create(struct solver *s, char *error, size_t error_size)
     g->index_of_id = clCreateBuffer(s->dev->context, CL_MEM_READ_WRITE,
                                     sizeof(cl_int) * (size_t)s->capacity, NULL, &err);
     CL_CHECK_ERR("clCreateBuffer(index_of_id)", err);
-    g->index_kernel = solver_make_kernel(s, "ghost_index_of_id");
-    g->id_keys = solver_make_kernel(s, "ghost_id_keys");
-    g->init = solver_make_kernel(s, "ghost_init");
-    g->refresh[ELEM_REAL] = solver_make_kernel(s, "ghost_refresh_real");
-    g->refresh[ELEM_INT] = solver_make_kernel(s, "ghost_refresh_int");
-    g->refresh[ELEM_VEC] = solver_make_kernel(s, "ghost_refresh_vec");
-    g->refresh[ELEM_SYMT] = solver_make_kernel(s, "ghost_refresh_symt");
-    g->refresh[ELEM_FULLT] = solver_make_kernel(s, "ghost_refresh_fullt");
+    struct kernel_slot slots[GHOST_KERNELS];
+    solver_make_kernels(s, slots, ghost_kernels(g, slots));
     (void)error, (void)error_size;
     return 0;
 }
@@ -106,13 +119,8 @@ void solver_ghosts_release(struct solver *s)
     for (size_t k = 0; k < sizeof buffers / sizeof buffers[0]; ++k)
         if (*buffers[k])
             clReleaseMemObject(*buffers[k]);
-    cl_kernel *kernels[] = {&g->index_kernel, &g->id_keys, &g->init};
-    for (size_t k = 0; k < sizeof kernels / sizeof kernels[0]; ++k)
-        if (*kernels[k])
-            clReleaseKernel(*kernels[k]);
-    for (int e = 0; e < ELEM_COUNT; ++e)
-        if (g->refresh[e])
-            clReleaseKernel(g->refresh[e]);
+    struct kernel_slot slots[GHOST_KERNELS];
+    solver_release_kernels(slots, ghost_kernels(g, slots));
 }
 
 static void set_arg(cl_kernel k, cl_uint index, size_t size, const void *value)

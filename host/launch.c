@@ -29,6 +29,21 @@ cl_kernel solver_make_kernel(struct solver *s, const char *name)
     return k;
 }
 
+void solver_make_kernels(struct solver *s, const struct kernel_slot *slots, int count)
+{
+    for (int k = 0; k < count; ++k)
+        *slots[k].kernel = slots[k].name ? solver_make_kernel(s, slots[k].name) : NULL;
+}
+
+void solver_release_kernels(const struct kernel_slot *slots, int count)
+{
+    for (int k = 0; k < count; ++k) {
+        if (*slots[k].kernel)
+            clReleaseKernel(*slots[k].kernel);
+        *slots[k].kernel = NULL;
+    }
+}
+
 void solver_launch(struct solver *s, cl_kernel k, size_t global, size_t local)
 {
     /* an explicit work-group size: PoCL's own choice for a NULL size costs

@@ -282,6 +282,15 @@ int projectile_check_scene(const struct sph_case *c, const struct sph_scene *sce
 /* Shared launch helpers (host/step.c). */
 void solver_launch(struct solver *s, cl_kernel k, size_t global, size_t local);
 cl_kernel solver_make_kernel(struct solver *s, const char *name);
+/* The kernels a module owns, listed once for making and releasing them:
+ * where the handle lives and the kernel's name (NULL: not used in this
+ * configuration; the handle stays NULL). */
+struct kernel_slot {
+    cl_kernel *kernel;
+    const char *name;
+};
+void solver_make_kernels(struct solver *s, const struct kernel_slot *slots, int count);
+void solver_release_kernels(const struct kernel_slot *slots, int count);
 void solver_bitonic_sort(struct solver *s);
 void solver_gather_persistent(struct solver *s);
 

@@ -14,51 +14,53 @@ void solver_release_buffers(struct solver *s);
 
 #define MAX_CELLS (1 << 26) /* 256 MiB of cell ranges: beyond, particles have left */
 
-static void create_kernels(struct solver *s)
+/* The step's kernels, one list for making and releasing them. */
+#define STEP_KERNELS 25
+static int step_kernels(struct solver *s, struct kernel_slot slots[STEP_KERNELS])
 {
     struct kernels *k = &s->k;
-    k->cell_keys = solver_make_kernel(s, "grid_cell_keys");
-    k->bitonic_step = solver_make_kernel(s, "grid_bitonic_step");
-    k->fill_int = solver_make_kernel(s, "grid_fill_int");
-    k->cell_ranges = solver_make_kernel(s, "grid_cell_ranges");
-    k->bounds = solver_make_kernel(s, "grid_bounds");
-    k->gather[ELEM_REAL] = solver_make_kernel(s, "grid_gather_real");
-    k->gather[ELEM_INT] = solver_make_kernel(s, "grid_gather_int");
-    k->gather[ELEM_VEC] = solver_make_kernel(s, "grid_gather_vec");
-    k->gather[ELEM_SYMT] = solver_make_kernel(s, "grid_gather_symt");
-    k->gather[ELEM_FULLT] = solver_make_kernel(s, "grid_gather_fullt");
-    k->pass1 = solver_make_kernel(s, s->lanes ? "pass1_lanes" : "pass1_velocity_gradient");
-    k->material = solver_make_kernel(s, "material_update");
-    k->pass2 = solver_make_kernel(s, s->lanes ? "pass2_lanes" : "pass2_momentum_energy");
-    k->kick = solver_make_kernel(s, "integrate_kick");
-    k->drift = solver_make_kernel(s, "integrate_drift");
-    k->reduce = solver_make_kernel(s, "reduce_step");
-    k->neighbour_count = solver_make_kernel(s, "health_neighbour_count");
-    k->tl_correction = solver_make_kernel(s, "tl_correction");
-    k->tl_deformation = solver_make_kernel(s, "tl_deformation");
-    k->tl_first_piola = solver_make_kernel(s, "tl_first_piola");
-    k->tl_momentum = solver_make_kernel(s, "tl_momentum");
-    k->health = solver_make_kernel(s, "health_indicators");
-    k->neighbour_reach = s->graded ? solver_make_kernel(s, "grid_neighbour_reach") : NULL;
-    k->cell_max_level = s->graded ? solver_make_kernel(s, "grid_cell_max_level") : NULL;
-    k->apply_reach = s->graded ? solver_make_kernel(s, "grid_apply_reach") : NULL;
+    const struct kernel_slot list[] = {
+        {&k->cell_keys, "grid_cell_keys"},
+        {&k->bitonic_step, "grid_bitonic_step"},
+        {&k->fill_int, "grid_fill_int"},
+        {&k->cell_ranges, "grid_cell_ranges"},
+        {&k->bounds, "grid_bounds"},
+        {&k->gather[ELEM_REAL], "grid_gather_real"},
+        {&k->gather[ELEM_INT], "grid_gather_int"},
+        {&k->gather[ELEM_VEC], "grid_gather_vec"},
+        {&k->gather[ELEM_SYMT], "grid_gather_symt"},
+        {&k->gather[ELEM_FULLT], "grid_gather_fullt"},
+        {&k->pass1, s->lanes ? "pass1_lanes" : "pass1_velocity_gradient"},
+        {&k->material, "material_update"},
+        {&k->pass2, s->lanes ? "pass2_lanes" : "pass2_momentum_energy"},
+        {&k->kick, "integrate_kick"},
+        {&k->drift, "integrate_drift"},
+        {&k->reduce, "reduce_step"},
+        {&k->neighbour_count, "health_neighbour_count"},
+        {&k->tl_correction, "tl_correction"},
+        {&k->tl_deformation, "tl_deformation"},
+        {&k->tl_first_piola, "tl_first_piola"},
+        {&k->tl_momentum, "tl_momentum"},
+        {&k->health, "health_indicators"},
+        {&k->neighbour_reach, s->graded ? "grid_neighbour_reach" : NULL},
+        {&k->cell_max_level, s->graded ? "grid_cell_max_level" : NULL},
+        {&k->apply_reach, s->graded ? "grid_apply_reach" : NULL},
+    };
+    _Static_assert(sizeof list / sizeof list[0] == STEP_KERNELS, "STEP_KERNELS");
+    memcpy(slots, list, sizeof list);
+    return STEP_KERNELS;
+}
+
+static void create_kernels(struct solver *s)
+{
+    struct kernel_slot slots[STEP_KERNELS];
+    solver_make_kernels(s, slots, step_kernels(s, slots));
 }
 
 static void release_kernels(struct solver *s)
 {
-    cl_kernel *all[] = {
-        &s->k.cell_keys,     &s->k.bitonic_step,    &s->k.fill_int,       &s->k.cell_ranges,
-        &s->k.bounds,        &s->k.pass1,           &s->k.material,       &s->k.pass2,
-        &s->k.kick,          &s->k.drift,           &s->k.reduce,         &s->k.neighbour_count,
-        &s->k.tl_correction, &s->k.tl_deformation,  &s->k.tl_first_piola, &s->k.tl_momentum,
-        &s->k.health,        &s->k.neighbour_reach, &s->k.cell_max_level, &s->k.apply_reach};
-    for (size_t i = 0; i < sizeof all / sizeof all[0]; ++i)
-        if (*all[i])
-            clReleaseKernel(*all[i]);
-    for (int e = 0; e < ELEM_COUNT; ++e)
-        if (s->k.gather[e])
-            clReleaseKernel(s->k.gather[e]);
-    memset(&s->k, 0, sizeof s->k);
+    struct kernel_slot slots[STEP_KERNELS];
+    solver_release_kernels(slots, step_kernels(s, slots));
 }
 
 static void fill_run_params(struct solver *s, const struct sph_case *c)

@@ -1,7 +1,7 @@
 /*
  * Passes 1 and 2 over lanes of particles (SPH_LANES; numerics.neighbour_loop:
- * lanes, the default where it applies: a uniform lattice, plane or 3-D,
- * the updated Lagrangian form).
+ * lanes, the default where it applies: a plane or 3-D lattice, uniform or
+ * graded, the updated Lagrangian form).
  *
  * Why: PoCL vectorises a kernel across work-items only when its body has
  * no inner loop of varying trip count, so pass1.cl and pass2.cl, whose

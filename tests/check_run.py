@@ -3,8 +3,9 @@
 
 usage: check_run.py SPH [sph arguments ...] -- [--exit N] [--stderr TEXT]
                     [--key NAME MIN MAX] [--text NAME VALUE] [--file NAME]
-                    [--contains FILE TEXT]
+                    [--contains FILE TEXT] [--first FILE COLUMN MIN MAX]
 """
+import csv
 import json
 import os
 import subprocess
@@ -47,6 +48,20 @@ def main():
             else:
                 print(f"check: {key} = {value:.6g} in [{low:g}, {high:g}]")
             i += 4
+        elif what == "--first":  # a CSV column's value in the first data row
+            path, column = os.path.join(out, checks[i + 1]), checks[i + 2]
+            low, high = float(checks[i + 3]), float(checks[i + 4])
+            try:
+                with open(path, newline="") as f:
+                    value = float(next(csv.DictReader(f))[column])
+            except (OSError, StopIteration, KeyError, ValueError) as e:
+                value = None
+                failures.append(f"{path}: no first-row {column} ({e})")
+            if value is not None and not low <= value <= high:
+                failures.append(f"{path} first-row {column} = {value}, expected in [{low}, {high}]")
+            elif value is not None:
+                print(f"check: {path} first-row {column} = {value:.6g} in [{low:g}, {high:g}]")
+            i += 5
         elif what == "--contains":
             path, text = os.path.join(out, checks[i + 1]), checks[i + 2]
             try:
