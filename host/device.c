@@ -15,13 +15,21 @@
 
 /* Kernel sources in the order the program is assembled. */
 static const char *const source_files[] = {
-    "include/sph_shared.h",       "kernels/smoothing.cl",
-    "kernels/common.cl",          "kernels/grid.cl",
-    "kernels/material_models.cl", "kernels/material.cl",
-    "kernels/pass1.cl",           "kernels/pass2.cl",
-    "kernels/lanes.cl",           "kernels/total_lagrangian.cl",
-    "kernels/ghost.cl",           "kernels/integrate.cl",
-    "kernels/reduce.cl",          "kernels/projectile.cl",
+    "include/sph_shared.h",
+    "kernels/lane_types.cl",
+    "kernels/smoothing.cl",
+    "kernels/common.cl",
+    "kernels/grid.cl",
+    "kernels/material_models.cl",
+    "kernels/material.cl",
+    "kernels/lanes.cl",
+    "kernels/pass1.cl",
+    "kernels/pass2.cl",
+    "kernels/total_lagrangian.cl",
+    "kernels/ghost.cl",
+    "kernels/integrate.cl",
+    "kernels/reduce.cl",
+    "kernels/projectile.cl",
     "kernels/probe.cl",
 };
 

@@ -528,6 +528,7 @@ int output_summary(struct output *o, const struct run_summary *s)
     json_string(f, "message", s->message);
     json_string(f, "precision", s->precision);
     json_string(f, "neighbour_loop", s->neighbour_loop);
+    fprintf(f, "  \"neighbour_lanes\": %d,\n", s->neighbour_lanes);
     fprintf(f, "  \"dimension\": %d,\n  \"particles\": %d,\n  \"steps\": %ld,\n", s->dimension,
             s->particles, s->steps);
     fprintf(f, "  \"bytes_per_particle\": %zu,\n", s->bytes_per_particle);

@@ -64,6 +64,7 @@ struct history_row {
 struct run_summary {
     const char *case_name, *device, *status, *message, *precision;
     const char *neighbour_loop; /* "lanes" or "plain": the passes that ran */
+    int neighbour_lanes;        /* particles per work-item of passes 1 and 2 (SPH_LANES) */
     int particles, dimension;
     long steps;
     double end_time, wall_time_s, steps_per_s;

@@ -20,13 +20,8 @@ static const struct {
 } pair_flops[] = {
     {"pass1_velocity_gradient", 84}, /* gradient, velocity gradient, CSPH moment */
     {"pass2_momentum_energy", 170},  /* stresses, CSPH, viscosity, XSPH */
-    {"pass1_lanes", 84},             /* the same terms over lanes (kernels/lanes.cl) */
-    {"pass2_lanes", 170},
-    {"tl_deformation", 84},
-    {"tl_momentum", 120},
-    {"tl_correction", 45},
-    {"health_indicators", 30},
-    {"health_neighbour_count", 10},
+    {"tl_deformation", 84},          {"tl_momentum", 120},           {"tl_correction", 45},
+    {"health_indicators", 30},       {"health_neighbour_count", 10},
 };
 
 void profile_note_buffer(cl_mem buffer)

@@ -234,7 +234,8 @@ static void finish_summary(struct loop *L, struct run_summary *sum)
     sum->status = L->status;
     sum->message = L->message;
     sum->precision = L->c->numerics.double_precision ? "double" : "float";
-    sum->neighbour_loop = L->s->lanes ? "lanes" : "plain";
+    sum->neighbour_loop = L->s->lanes > 1 ? "lanes" : "plain";
+    sum->neighbour_lanes = L->s->lanes;
     sum->particles = L->s->n_real;
     sum->dimension = L->c->dimension;
     sum->steps = L->step;

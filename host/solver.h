@@ -185,10 +185,10 @@ struct solver {
 /* The largest longitudinal sound speed over the case's materials, m/s. */
 double solver_max_sound_speed(const struct sph_case *c);
 
-/* Particles per work-item of the lane passes (kernels/lanes.cl), or 0 where
- * the plain passes run: numerics.neighbour_loop plain, axisymmetric cases
- * and the total Lagrangian form (graded lattices take the lanes since
- * session 15: each lane's pair h). */
+/* Particles per work-item of passes 1 and 2 (kernels/lanes.cl): 1, the
+ * plain loop, for numerics.neighbour_loop plain and the total Lagrangian
+ * form (whose kernels take one particle per work-item); SPH_LANES_DEFAULT
+ * elsewhere (graded and axisymmetric lattices too). */
 #define SPH_LANES_DEFAULT 8
 int solver_lanes(const struct sph_case *c);
 /* Whether some body of the case has a graded lattice (SPH_GRADED). */

@@ -49,10 +49,7 @@ int solver_case_graded(const struct sph_case *c)
 
 int solver_lanes(const struct sph_case *c)
 {
-    const int axisymmetric = c->dimension == 2 && c->plane == SPH_PLANE_AXISYMMETRIC;
-    return c->numerics.plain_loops || axisymmetric || c->numerics.total_lagrangian
-               ? 0
-               : SPH_LANES_DEFAULT;
+    return c->numerics.plain_loops || c->numerics.total_lagrangian ? 1 : SPH_LANES_DEFAULT;
 }
 
 void solver_build_options(const struct sph_case *c, char *options, size_t size)

@@ -30,17 +30,17 @@ static int step_kernels(struct solver *s, struct kernel_slot slots[STEP_KERNELS]
         {&k->gather[ELEM_VEC], "grid_gather_vec"},
         {&k->gather[ELEM_SYMT], "grid_gather_symt"},
         {&k->gather[ELEM_FULLT], "grid_gather_fullt"},
-        {&k->pass1, s->lanes ? "pass1_lanes" : "pass1_velocity_gradient"},
-        {&k->material, "material_update"},
-        {&k->pass2, s->lanes ? "pass2_lanes" : "pass2_momentum_energy"},
+        {&k->pass1, "pass1_velocity_gradient"},
+        {&k->material, s->total_lagrangian ? "material_update" : NULL},
+        {&k->pass2, "pass2_momentum_energy"},
         {&k->kick, "integrate_kick"},
         {&k->drift, "integrate_drift"},
         {&k->reduce, "reduce_step"},
         {&k->neighbour_count, "health_neighbour_count"},
-        {&k->tl_correction, "tl_correction"},
-        {&k->tl_deformation, "tl_deformation"},
-        {&k->tl_first_piola, "tl_first_piola"},
-        {&k->tl_momentum, "tl_momentum"},
+        {&k->tl_correction, s->total_lagrangian ? "tl_correction" : NULL},
+        {&k->tl_deformation, s->total_lagrangian ? "tl_deformation" : NULL},
+        {&k->tl_first_piola, s->total_lagrangian ? "tl_first_piola" : NULL},
+        {&k->tl_momentum, s->total_lagrangian ? "tl_momentum" : NULL},
         {&k->health, "health_indicators"},
         {&k->neighbour_reach, s->graded ? "grid_neighbour_reach" : NULL},
         {&k->cell_max_level, s->graded ? "grid_cell_max_level" : NULL},
@@ -282,7 +282,7 @@ int solver_sort(struct solver *s, char *error, size_t error_size)
 /* Work-items of passes 1 and 2: one per particle, or per lane block. */
 static size_t pass_items(const struct solver *s)
 {
-    return s->lanes ? ((size_t)s->n + (size_t)s->lanes - 1) / (size_t)s->lanes : (size_t)s->n;
+    return ((size_t)s->n + (size_t)s->lanes - 1) / (size_t)s->lanes;
 }
 
 /* The material state buffers, as kernels/material.cl's MATERIAL_STATE_ARGS. */

@@ -235,6 +235,15 @@ static inline int2 cell_row_span(__global const int *restrict cell_start,
     }                                                                                              \
     }
 
+/* sigma = S - p I */
+static inline void total_stress(real p, symt dev, real out[3][3])
+{
+    symt_load(dev, out);
+#pragma unroll
+    for (int a = 0; a < 3; ++a)
+        out[a][a] -= p;
+}
+
 /* out = a . b, summed over the first SPH_DIM indices (out must not be a
  * or b) */
 static inline void matrix_product(real a[3][3], real b[3][3], real out[3][3])
@@ -322,26 +331,6 @@ static inline real plane_mass(real mass, vec x, __constant const struct sph_run_
 #endif
 }
 
-/* A neighbour's mass as the momentum and energy sums weigh it: in an
- * axisymmetric case m_j / r_ij with the pair's mean radius
- * r_ij = (r_i + |r_j|) / 2 instead of r_j, so that the force ring i takes
- * from ring j, m_i m_j / r_ij (...), is exactly minus the one j takes from
- * i and the axial momentum of target and projectile is conserved to
- * round-off (with m_j / r_j the pair forces differ by O(dx / r), which
- * near the axis is O(1)). Elsewhere the mass itself. */
-static inline real pair_mass(real mass_j, vec xi, vec xj,
-                             __constant const struct sph_run_params *run)
-{
-#ifdef SPH_AXISYMMETRIC
-    return (real)2 * mass_j / (axis_radius(xi.x, run) + axis_radius(xj.x, run));
-#else
-    (void)xi;
-    (void)xj;
-    (void)run;
-    return mass_j;
-#endif
-}
-
 /* Work-group size of the reduction kernels (grid bounds, per-step reduce). */
 #define REDUCE_WG 64
 
@@ -365,4 +354,26 @@ static inline real kernel_w(real r, real h)
 static inline real kernel_dwdr(real r, real h)
 {
     return sph_kernel_dwdr(SPH_KERNEL, SPH_DIM, r, h);
+}
+
+/* The same on lane vectors, of q = r / h: the pair loops form q with a
+ * product by 1 / h and keep their divisions out of the per-candidate work,
+ * since a vector division costs many multiply-adds on a CPU
+ * (docs/performance.md). */
+static inline hreal inv_h_pow_v(hreal h) /* 1 / h^dim, as sph_inv_h_pow */
+{
+    const hreal ih = (real)1 / h;
+    return SPH_DIM == 2 ? ih * ih : ih * ih * ih;
+}
+
+static inline realv kernel_w_q(realv q, hreal h)
+{
+    return sph_kernel_sigma(SPH_KERNEL, SPH_DIM) * inv_h_pow_v(h) * sph_kernel_shape(SPH_KERNEL, q);
+}
+
+/* (dW/dr) / r, for grad_i W_ij = (dW/dr) / r x_ij */
+static inline realv kernel_dwdr_over_r_q(realv q, hreal h)
+{
+    return sph_kernel_sigma(SPH_KERNEL, SPH_DIM) * inv_h_pow_v(h) / (h * h) *
+           sph_kernel_shape_dq_over_q(SPH_KERNEL, q);
 }

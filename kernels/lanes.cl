@@ -1,195 +1,42 @@
 /*
- * Passes 1 and 2 over lanes of particles (SPH_LANES; numerics.neighbour_loop:
- * lanes, the default where it applies: a plane or 3-D lattice, uniform or
- * graded, the updated Lagrangian form).
+ * The neighbour loop of passes 1 and 2 (kernels/pass1.cl, pass2.cl), over
+ * lanes of particles: SPH_LANES consecutive particles of the cell-sorted
+ * order per work-item. It holds no physics: the passes write their pair
+ * terms once, in `realv` arithmetic, and this file makes that arithmetic
+ * one particle wide or several.
  *
- * Why: PoCL vectorises a kernel across work-items only when its body has
- * no inner loop of varying trip count, so pass1.cl and pass2.cl, whose
- * neighbour loops differ per particle, run one particle per instruction on
- * a CPU (docs/performance.md). Here a work-item takes SPH_LANES consecutive
- * particles of the cell-sorted order (mostly in the same or adjacent
+ * SPH_LANES 1 (numerics.neighbour_loop: plain; the total Lagrangian form; a
+ * GPU's natural shape): realv is real, a work-item is one particle, the
+ * loop is FOR_EACH_NEIGHBOUR's.
+ * SPH_LANES 4, 8 or 16 (lanes, the default on a CPU where it applies):
+ * PoCL vectorises a kernel across work-items only when its body has no
+ * inner loop of varying trip count, so a one-particle neighbour loop runs
+ * one particle per instruction on a CPU (docs/performance.md). Here a
+ * work-item takes SPH_LANES particles (mostly in the same or adjacent
  * cells), walks the union of their search boxes once, and evaluates each
- * candidate j for all lanes at once in realv arithmetic: j's data are
- * loaded once and broadcast, i's live in vector registers, a candidate no
- * lane reaches costs one vector distance test. A lane whose particle is not
- * within the support contributes exactly zero (select, not a multiply, so
- * the r = 0 of i itself cannot leak a NaN).
- *
- * The physics is pass1.cl's and pass2.cl's term by term; pass 2 here
- * forms its reciprocals (1/rho_i, m_j/rho_j, 1/rho_mean, 1/h) once instead
- * of dividing per term, and the sums over the neighbours run in the same
- * cell order, so the results agree with the plain passes to rounding
- * (tests: lanes_match_plain_*, every smoothing kernel).
+ * candidate j for all lanes at once: j's data are loaded once and
+ * broadcast, i's live in vector registers, a candidate no lane reaches
+ * costs one vector distance test. A lane whose particle is not within the
+ * support contributes exactly zero (select, not a multiply, so the r = 0
+ * of i itself cannot leak a NaN). The sums over the neighbours run in the
+ * same cell order for every width, so widths agree to rounding (tests:
+ * lanes_match_plain_*, every smoothing kernel).
  */
-#if SPH_LANES > 0 /* 0: the plain passes (host/state.c, solver_lanes) */
 
-#if SPH_LANES == 4
-#ifdef SPH_DOUBLE
-typedef double4 realv;
-typedef long4 maskv;
-#else
-typedef float4 realv;
-typedef int4 maskv;
-#endif
-#elif SPH_LANES == 8
-#ifdef SPH_DOUBLE
-typedef double8 realv;
-typedef long8 maskv;
-#else
-typedef float8 realv;
-typedef int8 maskv;
-#endif
-#elif SPH_LANES == 16
-#ifdef SPH_DOUBLE
-typedef double16 realv;
-typedef long16 maskv;
-#else
-typedef float16 realv;
-typedef int16 maskv;
-#endif
-#else
-#error "SPH_LANES must be 4, 8 or 16"
-#endif
-
-#ifdef SPH_AXISYMMETRIC
-#error "the lane passes serve plane and 3-D lattices (host/state.c picks the plain passes)"
-#endif
 #if defined(SPH_GRADED) && defined(SPH_ARTIFICIAL_STRESS)
 #error "graded lattices take no artificial stress (host/case.c)"
 #endif
-
-/* The pair's smoothing length: one number on a uniform lattice, a lane
- * vector on a graded one (the mean of the two particles' h, common.cl
- * PAIR_H), where each lane's particle has its own level. */
-#ifdef SPH_GRADED
-typedef realv hreal;
-#else
-typedef real hreal;
-#endif
-
-#ifdef SPH_DOUBLE
-typedef long mask_scalar;
-#else
-typedef int mask_scalar;
-#endif
-
-typedef union {
-    realv v;
-    real s[SPH_LANES];
-} lanes_union;
-
-typedef union {
-    maskv v;
-    mask_scalar s[SPH_LANES];
-} mask_union;
-
-static inline real lane_of(realv v, int l)
-{
-    lanes_union u;
-    u.v = v;
-    return u.s[l];
-}
-
-/* The smoothing kernel's shape f(q) and df/dq (smoothing.cl) on a vector
- * of q; SPH_KERNEL is a build constant, so one branch survives. */
-static inline realv shape_v(realv q)
-{
-    const realv zero = (realv)0, one = (realv)1, two = (realv)2;
-    if (SPH_KERNEL == SPH_KERNEL_CUBIC_SPLINE) {
-        const realv t = fmax(two - q, zero);
-        return select((real)0.25 * t * t * t, one - (real)1.5 * q * q + (real)0.75 * q * q * q,
-                      q < one);
-    }
-    if (SPH_KERNEL == SPH_KERNEL_GAUSSIAN)
-        return select(zero, exp(-q * q) - (real)SPH_EXPM9, q <= (real)3);
-    if (SPH_KERNEL == SPH_KERNEL_QUINTIC_SPLINE) {
-        const realv a = fmax((real)3 - q, zero), b = fmax(two - q, zero), c = fmax(one - q, zero);
-        const realv a2 = a * a, b2 = b * b, c2 = c * c;
-        return a2 * a2 * a - (real)6 * b2 * b2 * b + (real)15 * c2 * c2 * c;
-    }
-    if (SPH_KERNEL == SPH_KERNEL_WENDLAND_C2) {
-        const realv t = fmax(one - (real)0.5 * q, zero);
-        return (t * t) * (t * t) * ((real)2 * q + one);
-    }
-    if (SPH_KERNEL == SPH_KERNEL_DOUBLE_COSINE) {
-        const real k = (real)SPH_DOUBLE_COSINE_K, pi = (real)SPH_PI;
-        return select(zero, (real)4 * cos(pi * q / k) + cos((real)2 * pi * q / k) + (real)3,
-                      q <= k);
-    }
-    /* SPH_KERNEL_HYPERBOLIC */
-    const realv t = fmax(two - q, zero);
-    return select(t * t * t, q * q * q - (real)6 * q + (real)6, q <= one);
-}
-
-static inline realv shape_dq_v(realv q)
-{
-    const realv zero = (realv)0, one = (realv)1, two = (realv)2;
-    if (SPH_KERNEL == SPH_KERNEL_CUBIC_SPLINE) {
-        const realv t = fmax(two - q, zero);
-        return select((real)-0.75 * t * t, (real)-3 * q + (real)2.25 * q * q, q < one);
-    }
-    if (SPH_KERNEL == SPH_KERNEL_GAUSSIAN)
-        return select(zero, (real)-2 * q * exp(-q * q), q <= (real)3);
-    if (SPH_KERNEL == SPH_KERNEL_QUINTIC_SPLINE) {
-        const realv a = fmax((real)3 - q, zero), b = fmax(two - q, zero), c = fmax(one - q, zero);
-        const realv a2 = a * a, b2 = b * b, c2 = c * c;
-        return (real)-5 * a2 * a2 + (real)30 * b2 * b2 - (real)75 * c2 * c2;
-    }
-    if (SPH_KERNEL == SPH_KERNEL_WENDLAND_C2) {
-        const realv t = fmax(one - (real)0.5 * q, zero);
-        return (real)-5 * q * t * t * t;
-    }
-    if (SPH_KERNEL == SPH_KERNEL_DOUBLE_COSINE) {
-        const real k = (real)SPH_DOUBLE_COSINE_K, pi = (real)SPH_PI;
-        return select(zero,
-                      -(real)4 * pi / k * sin(pi * q / k) -
-                          (real)2 * pi / k * sin((real)2 * pi * q / k),
-                      q <= k);
-    }
-    const realv t = fmax(two - q, zero);
-    return select((real)-3 * t * t, (real)3 * q * q - (real)6, q <= one);
-}
-
-/* df/dq / q, what the kernel gradient dW/dr x_ij / r needs: for the
- * Wendland C2 and the Gaussian kernels q cancels, so the pair loops do not
- * divide by r (a vector division costs many multiply-adds on a CPU); the
- * others divide. */
-static inline realv shape_dq_over_q_v(realv q)
-{
-    if (SPH_KERNEL == SPH_KERNEL_WENDLAND_C2) {
-        const realv t = fmax((realv)1 - (real)0.5 * q, (realv)0);
-        return (real)-5 * t * t * t;
-    }
-    if (SPH_KERNEL == SPH_KERNEL_GAUSSIAN)
-        return select((realv)0, (real)-2 * exp(-q * q), q <= (real)3);
-    return shape_dq_v(q) / q;
-}
-
-/* W of q = r / h: the pair loops form q with a product by 1 / h
- * and keep their divisions out of the per-candidate work, since a vector
- * division costs many multiply-adds on a CPU (docs/performance.md). */
-/* 1 / h^dim, as sph_inv_h_pow (smoothing.cl) */
-static inline hreal inv_h_pow_v(hreal h)
-{
-    const hreal ih = (real)1 / h;
-    return SPH_DIM == 2 ? ih * ih : ih * ih * ih;
-}
-
-static inline realv kernel_w_q_v(realv q, hreal h)
-{
-    return sph_kernel_sigma(SPH_KERNEL, SPH_DIM) * inv_h_pow_v(h) * shape_v(q);
-}
-
-/* (dW/dr) / r of q = r / h, for grad_i W_ij = (dW/dr) / r x_ij */
-static inline realv kernel_dwdr_over_r_q_v(realv q, hreal h)
-{
-    return sph_kernel_sigma(SPH_KERNEL, SPH_DIM) * inv_h_pow_v(h) / (h * h) * shape_dq_over_q_v(q);
-}
 
 /* Whether any lane of a mask is set. OpenCL's any() on a vector mask runs
  * lane by lane in PoCL 3.1 and took a third of pass 1's time at 50k; an
  * OR of the mask's 64-bit words in halves is a few vector instructions
  * (pass 1 17.9 against 22.5 ms, docs/performance.md). */
+#if SPH_LANES == 1
+static inline int lanes_any(maskv m)
+{
+    return m != 0;
+}
+#else
 #ifdef SPH_DOUBLE
 #define LANE_MASK_WORDS SPH_LANES
 #else
@@ -215,6 +62,7 @@ static inline int lanes_any(maskv m)
 #endif
     return (w2.x | w2.y) != 0;
 }
+#endif
 
 /* This work-item's lanes: the first particle, which lanes hold a real
  * particle (not past n, not a ghost), and the box of their cells. */
@@ -350,82 +198,7 @@ static inline void lane_positions(__global const vec *restrict pos, const struct
     gather_vec(pos, b, n, xi);
 #pragma unroll
     for (int a = 0; a < 3; ++a)
-        xi[a] = select((realv)LANE_FAR, xi[a], b->live);
-}
-
-/* reads: pos, vel (half step), rho, mass, material, flags, energy_rate;
- * writes: csph, velocity_gradient (SPH_AV_LIMITED); updates: the material
- * state (as pass1_velocity_gradient). */
-__kernel void pass1_lanes(__global const vec *restrict pos, __global const vec *restrict vel,
-                          __global const real *restrict rho, __global const real *restrict mass,
-                          __global const int *restrict material, __global const int *restrict flags,
-                          GRID_ARGS, __constant const struct sph_material *materials,
-                          __constant const struct sph_run_params *run, __global symt *restrict csph,
-                          __global fullt *restrict velocity_gradient,
-                          __global real *restrict av_alpha, const real dt, MATERIAL_STATE_ARGS,
-                          const int n)
-{
-    struct lane_block b;
-    if ((int)get_global_id(0) * SPH_LANES >= n ||
-        !lane_block_setup(&b, flags, sort_keys, grid_dims, n))
-        return;
-#ifdef SPH_GRADED
-    const real q2 = (run->support / run->h) * (run->support / run->h); /* (support / h)^2 */
-#else
-    const real h = run->h, inv_h = (real)1 / h, support2 = run->support * run->support;
-#endif
-    realv xi[3], vi[3];
-    lane_positions(pos, &b, n, xi);
-    gather_vec(vel, &b, n, vi);
-    realv grad_v[3][3], moment[3][3];
-#pragma unroll
-    for (int a = 0; a < 3; ++a)
-#pragma unroll
-        for (int c = 0; c < 3; ++c)
-            grad_v[a][c] = moment[a][c] = (realv)0;
-    FOR_EACH_LANE_NEIGHBOUR(b, j)
-    {
-        realv xij[3], r2;
-#ifdef SPH_GRADED
-        const hreal h = LANE_PAIR_H(b, j), inv_h = (real)1 / h, support2 = q2 * h * h;
-#endif
-        const maskv near = lane_pair(xi, pos[j], support2, xij, &r2);
-        if (!lanes_any(near))
-            continue;
-        const realv r = sqrt(r2);
-        const real volume = mass[j] / rho[j];
-        /* grad_i W_ij = dW/dr x_ij / r; zero for lanes out of reach */
-        const realv dwdr_r = select((realv)0, kernel_dwdr_over_r_q_v(r * inv_h, h), near);
-        const vec vj = vel[j];
-#pragma unroll
-        for (int a = 0; a < SPH_DIM; ++a) {
-            const realv vji = vec_get(vj, a) - vi[a];
-#pragma unroll
-            for (int c = 0; c < SPH_DIM; ++c) {
-                const realv g = dwdr_r * xij[c];
-                grad_v[a][c] += volume * vji * g;
-#ifdef SPH_CSPH
-                moment[a][c] -= volume * xij[a] * g;
-#endif
-            }
-        }
-    }
-    END_FOR_EACH_LANE_NEIGHBOUR
-    for (int l = 0; l < SPH_LANES; ++l) {
-        if (!lane_live(&b, l))
-            continue;
-        const int i = b.first + l;
-        real gv[3][3], m[3][3];
-#pragma unroll
-        for (int a = 0; a < 3; ++a)
-#pragma unroll
-            for (int c = 0; c < 3; ++c) {
-                gv[a][c] = lane_of(grad_v[a][c], l);
-                m[a][c] = lane_of(moment[a][c], l);
-            }
-        pass1_finish(i, gv, m, rho, material, flags, materials, run, csph, velocity_gradient,
-                     av_alpha, dt, pos, vel, MATERIAL_STATE);
-    }
+        xi[a] = SPH_SELECT((realv)LANE_FAR, xi[a], b->live);
 }
 
 /* Lane l of a tensor per lane, and the tensor of lanes. */
@@ -460,7 +233,51 @@ static inline void gather_symt(__global const symt *restrict f, const struct lan
     lanes_tensor_get(u, out);
 }
 
-#ifdef SPH_AV_LIMITED
+/* The total stress S - p I per lane (common.cl total_stress). */
+static inline void gather_total_stress(__global const real *restrict pressure,
+                                       __global const symt *restrict deviatoric_stress,
+                                       const struct lane_block *b, int n, realv out[3][3])
+{
+    lanes_union u[3][3];
+    for (int l = 0; l < SPH_LANES; ++l) {
+        real t[3][3];
+        const int i = b->first + l;
+        total_stress(i < n ? pressure[i] : (real)0, i < n ? deviatoric_stress[i] : symt_zero(), t);
+        lanes_tensor_put(u, l, t);
+    }
+    lanes_tensor_get(u, out);
+}
+
+/* Zero, one lane's and a sum of outer products: t += s a (x) b over the
+ * first SPH_DIM indices (velocity gradients, moment matrices and
+ * deformation gradients: pass1.cl, total_lagrangian.cl). */
+static inline void tensor_zero_v(realv t[3][3])
+{
+#pragma unroll
+    for (int a = 0; a < 3; ++a)
+#pragma unroll
+        for (int c = 0; c < 3; ++c)
+            t[a][c] = (realv)0;
+}
+
+static inline void tensor_lane(realv t[3][3], int l, real out[3][3])
+{
+#pragma unroll
+    for (int a = 0; a < 3; ++a)
+#pragma unroll
+        for (int c = 0; c < 3; ++c)
+            out[a][c] = lane_of(t[a][c], l);
+}
+
+static inline void outer_add(realv t[3][3], realv s, const realv a[3], const realv b[3])
+{
+#pragma unroll
+    for (int p = 0; p < SPH_DIM; ++p)
+#pragma unroll
+        for (int q = 0; q < SPH_DIM; ++q)
+            t[p][q] += s * a[p] * b[q];
+}
+
 /* A full 3 x 3 tensor per lane (the velocity gradient). */
 static inline void gather_fullt(__global const fullt *restrict f, const struct lane_block *b, int n,
                                 realv out[3][3])
@@ -474,258 +291,3 @@ static inline void gather_fullt(__global const fullt *restrict f, const struct l
     }
     lanes_tensor_get(u, out);
 }
-
-/* av_limiter (pass2.cl) per lane */
-static inline realv av_limiter_v(realv g_i, realv g_j, realv eta, real eta_crit)
-{
-    const realv sum = g_i + g_j, fold = (eta - eta_crit) / ((real)0.2 * eta_crit);
-    const realv phi = select((realv)0, (real)4 * g_i * g_j / (sum * sum), g_i * g_j > (real)0);
-    return select(phi, phi * exp(-fold * fold), eta < eta_crit);
-}
-
-/* limited_jump (pass2.cl) per lane: jump = v_ij - phi / 2 (L_i + L_j) x_ij */
-static inline void limited_jump_v(realv vij[3], realv xij[3], realv r, hreal inv_h, realv l_i[3][3],
-                                  __global const fullt *restrict velocity_gradient, int j,
-                                  __constant const struct sph_run_params *run, realv jump[3])
-{
-    real l_j[3][3];
-    fullt_load(velocity_gradient[j], l_j);
-    realv d[3], g_i = (realv)0, g_j = (realv)0;
-#pragma unroll
-    for (int a = 0; a < SPH_DIM; ++a) {
-        realv d_i = (realv)0, d_j = (realv)0;
-#pragma unroll
-        for (int c = 0; c < SPH_DIM; ++c) {
-            d_i += l_i[a][c] * xij[c];
-            d_j += l_j[a][c] * xij[c];
-        }
-        g_i += xij[a] * d_i;
-        g_j += xij[a] * d_j;
-        d[a] = d_i + d_j;
-    }
-    const realv half_phi = (real)0.5 * av_limiter_v(g_i, g_j, r * inv_h, run->av_eta_crit);
-#pragma unroll
-    for (int a = 0; a < 3; ++a)
-        jump[a] = a < SPH_DIM ? vij[a] - half_phi * d[a] : (realv)0;
-}
-#endif
-
-#ifdef SPH_ARTIFICIAL_STRESS
-/* Monaghan's (2000) weight (W(r) / W(dx))^n per lane (pass2.cl). */
-static inline realv artificial_stress_weight_v(realv r, real h,
-                                               __constant const struct sph_run_params *run)
-{
-    const realv f = kernel_w_q_v(r * ((real)1 / h), h) * run->as_inv_w_dx;
-    realv fn = (realv)1;
-    for (int k = 0; k < run->as_exponent; ++k)
-        fn *= f;
-    return fn;
-}
-#endif
-
-/* reads: pos, pos0, vel, rho, mass, pressure, deviatoric_stress,
- * artificial_stress, csph, sound_speed, velocity_gradient (limited), av_alpha (switch);
- * writes: acceleration, energy_rate, viscous_heating, xsph_velocity (as
- * pass2_momentum_energy, whose comments give the equations). */
-__kernel void
-pass2_lanes(__global const vec *restrict pos, __global const vec *restrict pos0,
-            __global const vec *restrict vel, __global const real *restrict rho,
-            __global const real *restrict mass, __global const real *restrict pressure,
-            __global const symt *restrict deviatoric_stress,
-            __global const symt *restrict artificial_stress, __global const symt *restrict csph,
-            __global const real *restrict sound_speed,
-            __global const fullt *restrict velocity_gradient,
-            __global const real *restrict av_alpha, __global const int *restrict flags, GRID_ARGS,
-            __constant const struct sph_run_params *run, __global vec *restrict acceleration,
-            __global real *restrict energy_rate, __global real *restrict viscous_heating,
-            __global vec *restrict xsph_velocity, const int n)
-{
-    struct lane_block b;
-    if ((int)get_global_id(0) * SPH_LANES >= n ||
-        !lane_block_setup(&b, flags, sort_keys, grid_dims, n))
-        return;
-#ifdef SPH_GRADED
-    const real q2 = (run->support / run->h) * (run->support / run->h); /* (support / h)^2 */
-#else
-    const real h = run->h, inv_h = (real)1 / h, support2 = run->support * run->support;
-#endif
-    realv xi[3], vi[3], sigma_i[3][3];
-    lane_positions(pos, &b, n, xi);
-    gather_vec(vel, &b, n, vi);
-    const realv rho_i = select((realv)1, gather_real(rho, &b, n), b.live),
-                inv_rho_i = (real)1 / rho_i;
-    gather_symt(deviatoric_stress, &b, n, sigma_i);
-    {
-        const realv p_i = gather_real(pressure, &b, n);
-#pragma unroll
-        for (int a = 0; a < 3; ++a) {
-            sigma_i[a][a] -= p_i;
-#pragma unroll
-            for (int c = 0; c < 3; ++c)
-                sigma_i[a][c] /= rho_i; /* sigma_i / rho_i */
-        }
-    }
-    const realv c_i = gather_real(sound_speed, &b, n);
-#ifdef SPH_ARTIFICIAL_STRESS
-    realv r_i[3][3];
-    gather_symt(artificial_stress, &b, n, r_i);
-#ifndef SPH_AS_LATTICE_WEIGHT
-    realv x0_i[3];
-    gather_vec(pos0, &b, n, x0_i);
-#endif
-#else
-    (void)artificial_stress;
-    (void)pos0;
-#endif
-#ifdef SPH_CSPH
-    realv c_i_t[3][3];
-    gather_symt(csph, &b, n, c_i_t);
-#else
-    (void)csph;
-#endif
-#ifdef SPH_AV_LIMITED
-    realv l_i[3][3];
-    gather_fullt(velocity_gradient, &b, n, l_i);
-#else
-    (void)velocity_gradient;
-#endif
-#ifdef SPH_AV_SWITCH
-    const realv alpha_i = gather_real(av_alpha, &b, n);
-    const real beta_per_alpha = run->av_alpha > 0 ? run->av_beta / run->av_alpha : (real)0;
-#else
-    (void)av_alpha;
-#endif
-    realv acc[3] = {(realv)0, (realv)0, (realv)0}, xsph[3] = {(realv)0, (realv)0, (realv)0};
-    realv de_viscous = (realv)0, de_stress = (realv)0; /* the two artificial heatings */
-    FOR_EACH_LANE_NEIGHBOUR(b, j)
-    {
-        realv xij[3], r2;
-#ifdef SPH_GRADED
-        const hreal h = LANE_PAIR_H(b, j), inv_h = (real)1 / h, support2 = q2 * h * h;
-#endif
-        const maskv near = lane_pair(xi, pos[j], support2, xij, &r2);
-        if (!lanes_any(near))
-            continue;
-        const realv r = sqrt(r2);
-        const vec vj = vel[j];
-        realv vij[3];
-#pragma unroll
-        for (int a = 0; a < 3; ++a)
-            vij[a] = a < SPH_DIM ? vi[a] - vec_get(vj, a) : (realv)0;
-        const real rho_j = rho[j], m_j = mass[j], m_over_rho_j = m_j / rho_j;
-        const realv inv_rho_mean = (real)2 / (rho_i + rho_j);
-        /* Monaghan (1992) viscosity, approaching pairs only */
-#ifdef SPH_AV_LIMITED
-        realv jump[3];
-        limited_jump_v(vij, xij, r, inv_h, l_i, velocity_gradient, j, run, jump);
-#else
-        realv *jump = vij;
-#endif
-        const realv vr = jump[0] * xij[0] + jump[1] * xij[1] + jump[2] * xij[2];
-        const realv mu = h * vr / (r2 + (real)0.01 * h * h);
-        const realv c_mean = (real)0.5 * (c_i + sound_speed[j]);
-#ifdef SPH_AV_SWITCH
-        const realv alpha_ij = (real)0.5 * (alpha_i + av_alpha[j]),
-                    beta_ij = beta_per_alpha * alpha_ij;
-#else
-        const real alpha_ij = run->av_alpha, beta_ij = run->av_beta;
-#endif
-        const realv pi_ij = select(
-            (realv)0, (-alpha_ij * c_mean * mu + beta_ij * mu * mu) * inv_rho_mean, vr < (real)0);
-        const realv q = r * inv_h;
-        const realv dwdr_r = select((realv)0, kernel_dwdr_over_r_q_v(q, h), near);
-        de_viscous += (real)0.5 * m_j * pi_ij * dwdr_r *
-                      (vij[0] * xij[0] + vij[1] * xij[1] + vij[2] * xij[2]);
-        realv grad[3], g_i[3], g_j[3];
-#pragma unroll
-        for (int a = 0; a < 3; ++a)
-            grad[a] = a < SPH_DIM ? dwdr_r * xij[a] : (realv)0;
-#ifdef SPH_CSPH
-        real c_j[3][3];
-        symt_load(csph[j], c_j);
-#pragma unroll
-        for (int a = 0; a < 3; ++a) {
-            g_i[a] = g_j[a] = (realv)0;
-#pragma unroll
-            for (int c = 0; c < SPH_DIM; ++c) {
-                g_i[a] += c_i_t[c][a] * grad[c];
-                g_j[a] += c_j[c][a] * grad[c];
-            }
-        }
-#else
-#pragma unroll
-        for (int a = 0; a < 3; ++a)
-            g_i[a] = g_j[a] = grad[a];
-#endif
-        /* (sigma_i . g_i + sigma_j . g_j) / (rho_i rho_j) and the
-         * artificial terms (f^n (R_i + R_j) - Pi I) . g */
-        real sigma_j[3][3];
-        symt_load(deviatoric_stress[j], sigma_j);
-        const real p_j = pressure[j];
-#pragma unroll
-        for (int a = 0; a < 3; ++a)
-            sigma_j[a][a] -= p_j;
-        realv t_i[3], t_j[3], extra[3];
-#pragma unroll
-        for (int a = 0; a < SPH_DIM; ++a) {
-            t_i[a] = t_j[a] = (realv)0;
-#pragma unroll
-            for (int c = 0; c < SPH_DIM; ++c) {
-                t_i[a] += sigma_i[a][c] * g_i[c];
-                t_j[a] += sigma_j[a][c] * g_j[c];
-            }
-            extra[a] = -pi_ij * grad[a];
-        }
-#ifdef SPH_ARTIFICIAL_STRESS
-        {
-            realv fn = artificial_stress_weight_v(r, h, run);
-#ifndef SPH_AS_LATTICE_WEIGHT
-            const vec x0_j = pos0[j];
-            realv d0[3];
-#pragma unroll
-            for (int a = 0; a < 3; ++a)
-                d0[a] = a < SPH_DIM ? x0_i[a] - vec_get(x0_j, a) : (realv)0;
-            const realv r0 = sqrt(d0[0] * d0[0] + d0[1] * d0[1] + d0[2] * d0[2]);
-            fn = fmax(fn - artificial_stress_weight_v(r0, h, run), (realv)0);
-#endif
-            real r_j[3][3];
-            symt_load(artificial_stress[j], r_j);
-#pragma unroll
-            for (int a = 0; a < SPH_DIM; ++a) {
-                realv rg = (realv)0;
-#pragma unroll
-                for (int c = 0; c < SPH_DIM; ++c)
-                    rg += (r_j[a][c] + r_i[a][c]) * grad[c];
-                extra[a] += fn * rg;
-                de_stress -= (real)0.5 * m_j * fn * vij[a] * rg;
-            }
-        }
-#endif
-#pragma unroll
-        for (int a = 0; a < SPH_DIM; ++a)
-            acc[a] += m_over_rho_j * (t_i[a] + t_j[a] * inv_rho_i) + m_j * extra[a];
-#ifdef SPH_XSPH
-        const realv w = select((realv)0, kernel_w_q_v(q, h), near);
-#pragma unroll
-        for (int a = 0; a < SPH_DIM; ++a)
-            xsph[a] -= (m_j * inv_rho_mean * w) * vij[a];
-#endif
-    }
-    END_FOR_EACH_LANE_NEIGHBOUR
-    for (int l = 0; l < SPH_LANES; ++l) {
-        if (!lane_live(&b, l))
-            continue;
-        const int i = b.first + l;
-        acceleration[i] = vec_make(lane_of(acc[0], l), lane_of(acc[1], l), lane_of(acc[2], l));
-        energy_rate[i] = lane_of(de_viscous + de_stress, l);
-        viscous_heating[i] = lane_of(de_viscous, l);
-#ifdef SPH_XSPH
-        xsph_velocity[i] = run->xsph_epsilon *
-                           vec_make(lane_of(xsph[0], l), lane_of(xsph[1], l), lane_of(xsph[2], l));
-#else
-        xsph_velocity[i] = VEC_ZERO;
-#endif
-    }
-}
-
-#endif /* SPH_LANES */

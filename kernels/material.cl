@@ -188,7 +188,7 @@ static inline bool particle_failed(__constant const struct sph_material *m, real
 
 /* The material update of particle i (not a ghost) from its velocity
  * gradient l (1/s) and density rate (kg/m^3/s) over the step dt (s): called
- * at the end of pass 1 in the updated Lagrangian form (pass1.cl, lanes.cl),
+ * at the end of pass 1 in the updated Lagrangian form (pass1.cl),
  * so the velocity gradient is never stored, and by material_update in the
  * total Lagrangian form. It writes only particle i's own state, and not its
  * density or flags, which neighbours' pass 1 reads while it runs: it

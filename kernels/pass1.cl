@@ -44,7 +44,7 @@ static inline real switch_alpha(real alpha, real divergence, real sound_speed, r
 }
 #endif
 
-/* What pass 1 does with particle i's sums (shared with kernels/lanes.cl):
+/* What pass 1 does with particle i's sums, lane by lane:
  * the CSPH correction C_i = B_i^-1 (symmetric, since grad W_ij is along
  * x_ij) applied to L_i, the density rate, and the material update. */
 static inline void
@@ -93,6 +93,10 @@ pass1_finish(int i, real grad_v[3][3], real moment[3][3], __global const real *r
                              materials, run, MATERIAL_STATE);
 }
 
+/* reads: pos, vel (half step), rho, mass, material, flags, energy_rate;
+ * writes: csph, velocity_gradient (SPH_AV_LIMITED); updates: av_alpha
+ * (SPH_AV_SWITCH) and the material state. One work-item per lane block
+ * (kernels/lanes.cl). */
 __kernel void pass1_velocity_gradient(
     __global const vec *restrict pos, __global const vec *restrict vel,
     __global const real *restrict rho, __global const real *restrict mass,
@@ -101,43 +105,53 @@ __kernel void pass1_velocity_gradient(
     __global symt *restrict csph, __global fullt *restrict velocity_gradient,
     __global real *restrict av_alpha, const real dt, MATERIAL_STATE_ARGS, const int n)
 {
-    const int i = get_global_id(0);
-    if (i >= n || (flags[i] & SPH_FLAG_GHOST))
+    struct lane_block b;
+    if ((int)get_global_id(0) * SPH_LANES >= n ||
+        !lane_block_setup(&b, flags, sort_keys, grid_dims, n))
         return;
+#ifdef SPH_GRADED
     const real q2 = (run->support / run->h) * (run->support / run->h); /* (support / h)^2 */
-    const vec xi = pos[i], vi = vel[i];
-#ifndef SPH_CSPH
-    (void)csph;
+#else
+    const real h = run->h, inv_h = (real)1 / h, support2 = run->support * run->support;
 #endif
-    real grad_v[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
-#ifdef SPH_CSPH
-    real moment[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
-#endif
-    FOR_EACH_NEIGHBOUR(i, j)
+    realv xi[3], vi[3];
+    lane_positions(pos, &b, n, xi);
+    gather_vec(vel, &b, n, vi);
+    realv grad_v[3][3], moment[3][3];
+    tensor_zero_v(grad_v);
+    tensor_zero_v(moment);
+    FOR_EACH_LANE_NEIGHBOUR(b, j)
     {
-        const vec xij = xi - pos[j];
-        const real r2 = dot(xij, xij);
-        const real h = PAIR_H(i, j);
-        if (r2 > 0 && r2 < q2 * h * h) { /* excludes i, and a coincident pair (grad W = 0) */
-            const real r = sqrt(r2);
-            const real volume = plane_mass(mass[j], pos[j], run) / rho[j];
-            const vec grad = (kernel_dwdr(r, h) / r) * xij; /* grad_i W_ij */
-            const vec vji = vel[j] - vi;
-#pragma unroll
-            for (int a = 0; a < SPH_DIM; ++a)
-#pragma unroll
-                for (int b = 0; b < SPH_DIM; ++b) {
-                    grad_v[a][b] += volume * vec_get(vji, a) * vec_get(grad, b);
-#ifdef SPH_CSPH
-                    moment[a][b] -= volume * vec_get(xij, a) * vec_get(grad, b);
+        realv xij[3], r2;
+#ifdef SPH_GRADED
+        const hreal h = LANE_PAIR_H(b, j), inv_h = (real)1 / h, support2 = q2 * h * h;
 #endif
-                }
+        const maskv near = lane_pair(xi, pos[j], support2, xij, &r2);
+        if (!lanes_any(near))
+            continue;
+        const real volume = plane_mass(mass[j], pos[j], run) / rho[j];
+        /* grad_i W_ij = dW/dr x_ij / r; zero for lanes out of reach */
+        const realv dwdr_r = SPH_SELECT((realv)0, kernel_dwdr_over_r_q(sqrt(r2) * inv_h, h), near);
+        const vec vj = vel[j];
+        realv vji[3], grad[3];
+#pragma unroll
+        for (int a = 0; a < 3; ++a) {
+            vji[a] = a < SPH_DIM ? vec_get(vj, a) - vi[a] : (realv)0;
+            grad[a] = dwdr_r * xij[a];
         }
-    }
-    END_FOR_EACH_NEIGHBOUR
-#ifndef SPH_CSPH
-    real moment[3][3];
+        outer_add(grad_v, volume, vji, grad);
+#ifdef SPH_CSPH
+        outer_add(moment, -volume, xij, grad);
 #endif
-    pass1_finish(i, grad_v, moment, rho, material, flags, materials, run, csph, velocity_gradient,
-                 av_alpha, dt, pos, vel, MATERIAL_STATE);
+    }
+    END_FOR_EACH_LANE_NEIGHBOUR
+    for (int l = 0; l < SPH_LANES; ++l) {
+        if (!lane_live(&b, l))
+            continue;
+        real gv[3][3], m[3][3];
+        tensor_lane(grad_v, l, gv);
+        tensor_lane(moment, l, m);
+        pass1_finish(b.first + l, gv, m, rho, material, flags, materials, run, csph,
+                     velocity_gradient, av_alpha, dt, pos, vel, MATERIAL_STATE);
+    }
 }

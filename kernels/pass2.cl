@@ -40,61 +40,12 @@
  *         of energy_rate, for the work ledger), xsph_velocity.
  */
 
-/* sigma = S - p I */
-static inline void total_stress(real p, symt dev, real out[3][3])
-{
-    symt_load(dev, out);
-#pragma unroll
-    for (int a = 0; a < 3; ++a)
-        out[a][a] -= p;
-}
-
-/* out = m . v over the first SPH_DIM components */
-static inline void matrix_times(real m[3][3], real v[3], real out[3])
-{
-#pragma unroll
-    for (int a = 0; a < SPH_DIM; ++a) {
-        out[a] = 0;
-#pragma unroll
-        for (int b = 0; b < SPH_DIM; ++b)
-            out[a] += m[a][b] * v[b];
-    }
-}
-
-/* out = m^T . v */
-static inline void transpose_times(real m[3][3], real v[3], real out[3])
-{
-#pragma unroll
-    for (int a = 0; a < SPH_DIM; ++a) {
-        out[a] = 0;
-#pragma unroll
-        for (int b = 0; b < SPH_DIM; ++b)
-            out[a] += m[b][a] * v[b];
-    }
-}
-
-/* out = C^T v for the symmetric CSPH correction C (pass1.cl) */
-static inline void symt_transpose_times(symt f, real v[3], real out[3])
-{
-    real m[3][3];
-    symt_load(f, m);
-    transpose_times(m, v, out);
-}
-
-/* out = (S - p I) . v */
-static inline void stress_times(real p, symt dev, real v[3], real out[3])
-{
-    real m[3][3];
-    total_stress(p, dev, m);
-    matrix_times(m, v, out);
-}
-
 /* Monaghan's (2000) artificial-stress weight (W(r) / W(dx))^n */
-static inline real artificial_stress_weight(real r, real h,
-                                            __constant const struct sph_run_params *run)
+static inline realv artificial_stress_weight(realv r, hreal h,
+                                             __constant const struct sph_run_params *run)
 {
-    const real f = kernel_w(r, h) * run->as_inv_w_dx;
-    real fn = 1;
+    const realv f = kernel_w_q(r * ((real)1 / h), h) * run->as_inv_w_dx;
+    realv fn = (realv)1;
     for (int k = 0; k < run->as_exponent; ++k)
         fn *= f;
     return fn;
@@ -106,46 +57,262 @@ static inline real artificial_stress_weight(real r, real h,
  * i and j; 0 where the slopes differ in sign), times a fade to zero for
  * pairs closer than eta_crit h, exp(-((eta - eta_crit) / (eta_crit / 5))^2)
  * (Frontiere et al. 2017's eta_crit and eta_fold). eta = r / h. */
-static inline real av_limiter(real g_i, real g_j, real eta, real eta_crit)
+static inline realv av_limiter(realv g_i, realv g_j, realv eta, real eta_crit)
 {
-    const real sum = g_i + g_j, fold = (eta - eta_crit) / ((real)0.2 * eta_crit);
-    const real phi = g_i * g_j > 0 ? (real)4 * g_i * g_j / (sum * sum) : (real)0;
-    return eta < eta_crit ? phi * exp(-fold * fold) : phi;
+    const realv sum = g_i + g_j, fold = (eta - eta_crit) / ((real)0.2 * eta_crit);
+    const realv phi = SPH_SELECT((realv)0, (real)4 * g_i * g_j / (sum * sum), g_i * g_j > (real)0);
+    return SPH_SELECT(phi, phi * exp(-fold * fold), eta < eta_crit);
 }
 
-/* v_i - v_j less the limited reconstruction from each side to the midpoint */
-static inline vec limited_jump(vec vij, vec xij, real r, real h, real l_i[3][3],
-                               __global const fullt *restrict velocity_gradient, int j,
-                               __constant const struct sph_run_params *run)
+/* v_i - v_j less the limited reconstruction from each side to the
+ * midpoint: jump = v_ij - phi / 2 (L_i + L_j) x_ij */
+static inline void limited_jump(realv vij[3], realv xij[3], realv r, hreal inv_h,
+                                const realv l_i[3][3],
+                                __global const fullt *restrict velocity_gradient, int j,
+                                __constant const struct sph_run_params *run, realv jump[3])
 {
-    real l_j[3][3], x[3], d_i[3] = {0, 0, 0}, d_j[3] = {0, 0, 0};
+    real l_j[3][3];
     fullt_load(velocity_gradient[j], l_j);
-#pragma unroll
-    for (int a = 0; a < 3; ++a)
-        x[a] = a < SPH_DIM ? vec_get(xij, a) : (real)0;
-    matrix_times(l_i, x, d_i);
-    matrix_times(l_j, x, d_j);
-    real g_i = 0, g_j = 0;
+    realv d[3], g_i = (realv)0, g_j = (realv)0;
 #pragma unroll
     for (int a = 0; a < SPH_DIM; ++a) {
-        g_i += x[a] * d_i[a];
-        g_j += x[a] * d_j[a];
+        realv d_i = (realv)0, d_j = (realv)0;
+#pragma unroll
+        for (int c = 0; c < SPH_DIM; ++c) {
+            d_i += l_i[a][c] * xij[c];
+            d_j += l_j[a][c] * xij[c];
+        }
+        g_i += xij[a] * d_i;
+        g_j += xij[a] * d_j;
+        d[a] = d_i + d_j;
     }
-    const real half_phi = (real)0.5 * av_limiter(g_i, g_j, r / h, run->av_eta_crit);
-    return vij - half_phi * vec_make(d_i[0] + d_j[0], d_i[1] + d_j[1], d_i[2] + d_j[2]);
+    const realv half_phi = (real)0.5 * av_limiter(g_i, g_j, r * inv_h, run->av_eta_crit);
+#pragma unroll
+    for (int a = 0; a < 3; ++a)
+        jump[a] = a < SPH_DIM ? vij[a] - half_phi * d[a] : (realv)0;
 }
 #endif
 
-static inline real artificial_viscosity(vec vij, vec xij, real r2, real h, real c_mean,
-                                        real rho_mean, real alpha, real beta)
+/* Pi_ij of an approaching pair (Monaghan 1992 eq. 4.1), 0 for a receding
+ * one: vr = v_ij . x_ij (or the limited jump's), r2 = |x_ij|^2. Shared
+ * with the total Lagrangian form (total_lagrangian.cl). */
+static inline realv artificial_viscosity(realv vr, realv r2, hreal h, realv c_mean,
+                                         realv inv_rho_mean, realv alpha, realv beta)
 {
-    const real vr = dot(vij, xij);
-    if (vr >= 0)
-        return 0;
-    const real mu = h * vr / (r2 + (real)0.01 * h * h);
-    return (-alpha * c_mean * mu + beta * mu * mu) / rho_mean;
+    const realv mu = h * vr / (r2 + (real)0.01 * h * h);
+    return SPH_SELECT((realv)0, (-alpha * c_mean * mu + beta * mu * mu) * inv_rho_mean,
+                      vr < (real)0);
 }
 
+/* XSPH's store: eps times the sum, or zero without it */
+static inline void store_xsph(__global vec *restrict xsph_velocity, int i, vec sum,
+                              __constant const struct sph_run_params *run)
+{
+#ifdef SPH_XSPH
+    xsph_velocity[i] = run->xsph_epsilon * sum;
+#else
+    (void)sum;
+    (void)run;
+    xsph_velocity[i] = VEC_ZERO;
+#endif
+}
+
+/* What pass 2 holds of its own particles, one lane each: sigma / rho (the
+ * stress carries 1 / rho_i once), and the fields each option reads. */
+struct pass2_lanes_i {
+    realv x[3], v[3], rho, inv_rho, sigma[3][3], c;
+#ifdef SPH_ARTIFICIAL_STRESS
+    realv as[3][3];
+#ifndef SPH_AS_LATTICE_WEIGHT
+    realv x0[3];
+#endif
+#endif
+#ifdef SPH_CSPH
+    realv csph[3][3];
+#endif
+#ifdef SPH_AV_LIMITED
+    realv l[3][3];
+#endif
+#ifdef SPH_AV_SWITCH
+    realv alpha;
+#endif
+};
+
+/* The neighbour's mass as the sums weigh it: m_j in the stress term of i
+ * (common.cl plane_mass: m_j / r_j in the axisymmetric form), at_i = (the
+ * mass the stress term of j takes, m_j / r_i) / m_j, and m_pair in the
+ * artificial terms and their heating: in the axisymmetric form m_j / r_ij
+ * with the pair's mean radius r_ij = (r_i + |r_j|) / 2, so that the force
+ * ring i takes from ring j, m_i m_j / r_ij (...), is exactly minus the one
+ * j takes from i and the axial momentum of target and projectile is
+ * conserved to round-off (with m_j / r_j the pair forces differ by
+ * O(dx / r), which near the axis is O(1)). Elsewhere m_pair = m_j and
+ * at_i = 1 exactly. */
+#ifdef SPH_AXISYMMETRIC
+#define PAIR_MASSES(I, j)                                                                          \
+    const real m_j = plane_mass(mass[j], pos[j], run);                                             \
+    const realv r_i_ = fmax(fabs((I).x[0]), run->axis_radius), r_j_ = axis_radius(pos[j].x, run);  \
+    const realv m_pair = (real)2 * mass[j] / (r_i_ + r_j_), at_i = r_j_ / r_i_
+#else
+#define PAIR_MASSES(I, j) const real m_j = mass[j], m_pair = m_j, at_i = (real)1
+#endif
+
+static inline void pass2_gather(struct pass2_lanes_i *I, const struct lane_block *b, int n,
+                                __global const vec *restrict pos, __global const vec *restrict pos0,
+                                __global const vec *restrict vel, __global const real *restrict rho,
+                                __global const real *restrict pressure,
+                                __global const symt *restrict deviatoric_stress,
+                                __global const symt *restrict artificial_stress,
+                                __global const symt *restrict csph,
+                                __global const real *restrict sound_speed,
+                                __global const fullt *restrict velocity_gradient,
+                                __global const real *restrict av_alpha)
+{
+    lane_positions(pos, b, n, I->x);
+    gather_vec(vel, b, n, I->v);
+    I->rho = SPH_SELECT((realv)1, gather_real(rho, b, n), b->live);
+    I->inv_rho = (real)1 / I->rho;
+    gather_total_stress(pressure, deviatoric_stress, b, n, I->sigma);
+#pragma unroll
+    for (int a = 0; a < 3; ++a)
+#pragma unroll
+        for (int c = 0; c < 3; ++c)
+            I->sigma[a][c] /= I->rho;
+    I->c = gather_real(sound_speed, b, n);
+#ifdef SPH_ARTIFICIAL_STRESS
+    gather_symt(artificial_stress, b, n, I->as);
+#ifndef SPH_AS_LATTICE_WEIGHT
+    gather_vec(pos0, b, n, I->x0);
+#endif
+#else
+    (void)artificial_stress;
+    (void)pos0;
+#endif
+#ifdef SPH_CSPH
+    gather_symt(csph, b, n, I->csph);
+#else
+    (void)csph;
+#endif
+#ifdef SPH_AV_LIMITED
+    gather_fullt(velocity_gradient, b, n, I->l);
+#else
+    (void)velocity_gradient;
+#endif
+#ifdef SPH_AV_SWITCH
+    I->alpha = gather_real(av_alpha, b, n);
+#else
+    (void)av_alpha;
+#endif
+}
+
+/* Pi_ij of the lanes with neighbour j: on the pair velocity jump, or with
+ * SPH_AV_LIMITED on the jump between the two reconstructions; alpha the
+ * case's, or with SPH_AV_SWITCH the pair mean of the particles' (beta in
+ * the case's ratio to it: Morris & Monaghan 1997, beta = 2 alpha). */
+static inline realv pass2_viscosity(const struct pass2_lanes_i *I, realv vij[3], realv xij[3],
+                                    realv r, realv r2, hreal h, hreal inv_h, realv inv_rho_mean,
+                                    int j, __global const real *restrict sound_speed,
+                                    __global const fullt *restrict velocity_gradient,
+                                    __global const real *restrict av_alpha,
+                                    __constant const struct sph_run_params *run)
+{
+#ifdef SPH_AV_LIMITED
+    realv jump[3];
+    limited_jump(vij, xij, r, inv_h, I->l, velocity_gradient, j, run, jump);
+#else
+    const realv *jump = vij;
+    (void)r;
+    (void)inv_h;
+    (void)velocity_gradient;
+#endif
+    const realv vr = jump[0] * xij[0] + jump[1] * xij[1] + jump[2] * xij[2];
+    const realv c_mean = (real)0.5 * (I->c + sound_speed[j]);
+#ifdef SPH_AV_SWITCH
+    const real beta_per_alpha = run->av_alpha > 0 ? run->av_beta / run->av_alpha : (real)0;
+    const realv alpha_ij = (real)0.5 * (I->alpha + av_alpha[j]),
+                beta_ij = beta_per_alpha * alpha_ij;
+#else
+    (void)av_alpha;
+    const real alpha_ij = run->av_alpha, beta_ij = run->av_beta;
+#endif
+    return artificial_viscosity(vr, r2, h, c_mean, inv_rho_mean, alpha_ij, beta_ij);
+}
+
+/* The kernel gradient g = grad_i W_ij, and as each side's stress sees it:
+ * g_i = C_i^T g, g_j = C_j^T g with CSPH (Bonet & Lok 1999), else g. */
+static inline void pass2_gradients(const struct pass2_lanes_i *I, realv dwdr_r, realv xij[3],
+                                   __global const symt *restrict csph, int j, realv grad[3],
+                                   realv g_i[3], realv g_j[3])
+{
+#pragma unroll
+    for (int a = 0; a < 3; ++a)
+        grad[a] = a < SPH_DIM ? dwdr_r * xij[a] : (realv)0;
+#ifdef SPH_CSPH
+    real c_j[3][3];
+    symt_load(csph[j], c_j);
+#pragma unroll
+    for (int a = 0; a < 3; ++a) {
+        g_i[a] = g_j[a] = (realv)0;
+#pragma unroll
+        for (int c = 0; c < SPH_DIM; ++c) {
+            g_i[a] += I->csph[c][a] * grad[c];
+            g_j[a] += c_j[c][a] * grad[c];
+        }
+    }
+#else
+    (void)I;
+    (void)csph;
+    (void)j;
+#pragma unroll
+    for (int a = 0; a < 3; ++a)
+        g_i[a] = g_j[a] = grad[a];
+#endif
+}
+
+#ifdef SPH_ARTIFICIAL_STRESS
+/* Monaghan's (2000) term f^n (R_i + R_j) . g added to `extra`, and its
+ * heating -1/2 m v_ij . (f^n (R_i + R_j) . g) to `de`. f^n by default less
+ * the same weight at the pair's initial distance: zero for the undeformed
+ * lattice and for pairs that separate, so the term acts against clumping
+ * only and adds no traction at free surfaces (SPH_AS_LATTICE_WEIGHT keeps
+ * Monaghan's original). */
+static inline void pass2_artificial_stress(const struct pass2_lanes_i *I, realv r, hreal h,
+                                           realv grad[3], realv vij[3], realv m_pair, int j,
+                                           __global const vec *restrict pos0,
+                                           __global const symt *restrict artificial_stress,
+                                           __constant const struct sph_run_params *run,
+                                           realv extra[3], realv *de)
+{
+    realv fn = artificial_stress_weight(r, h, run);
+#ifndef SPH_AS_LATTICE_WEIGHT
+    const vec x0_j = pos0[j];
+    realv d0[3];
+#pragma unroll
+    for (int a = 0; a < 3; ++a)
+        d0[a] = a < SPH_DIM ? I->x0[a] - vec_get(x0_j, a) : (realv)0;
+    const realv r0 = sqrt(d0[0] * d0[0] + d0[1] * d0[1] + d0[2] * d0[2]);
+    fn = fmax(fn - artificial_stress_weight(r0, h, run), (realv)0);
+#else
+    (void)pos0;
+#endif
+    real r_j[3][3];
+    symt_load(artificial_stress[j], r_j);
+#pragma unroll
+    for (int a = 0; a < SPH_DIM; ++a) {
+        realv rg = (realv)0;
+#pragma unroll
+        for (int c = 0; c < SPH_DIM; ++c)
+            rg += (r_j[a][c] + I->as[a][c]) * grad[c];
+        extra[a] += fn * rg;
+        *de -= (real)0.5 * m_pair * fn * vij[a] * rg;
+    }
+}
+#endif
+
+/* reads: pos, pos0, vel, rho, mass, pressure, deviatoric_stress,
+ * artificial_stress, csph, sound_speed, velocity_gradient (limited),
+ * av_alpha (switch); writes: acceleration, energy_rate, viscous_heating,
+ * xsph_velocity. One work-item per lane block (kernels/lanes.cl). */
 __kernel void pass2_momentum_energy(
     __global const vec *restrict pos, __global const vec *restrict pos0,
     __global const vec *restrict vel, __global const real *restrict rho,
@@ -158,140 +325,76 @@ __kernel void pass2_momentum_energy(
     __global real *restrict energy_rate, __global real *restrict viscous_heating,
     __global vec *restrict xsph_velocity, const int n)
 {
-    const int i = get_global_id(0);
-    if (i >= n || (flags[i] & SPH_FLAG_GHOST))
+    struct lane_block b;
+    if ((int)get_global_id(0) * SPH_LANES >= n ||
+        !lane_block_setup(&b, flags, sort_keys, grid_dims, n))
         return;
+#ifdef SPH_GRADED
     const real q2 = (run->support / run->h) * (run->support / run->h); /* (support / h)^2 */
-    const vec xi = pos[i], vi = vel[i];
-    const real rho_i = rho[i];
-    const real c_i = sound_speed[i];
-    real sigma_i[3][3]; /* sigma_i / rho_i */
-    total_stress(pressure[i], deviatoric_stress[i], sigma_i);
-#pragma unroll
-    for (int a = 0; a < 3; ++a)
-#pragma unroll
-        for (int b = 0; b < 3; ++b)
-            sigma_i[a][b] /= rho_i;
-#ifdef SPH_ARTIFICIAL_STRESS
-    real r_i[3][3];
-    symt_load(artificial_stress[i], r_i);
 #else
-    (void)artificial_stress;
+    const real h = run->h, inv_h = (real)1 / h, support2 = run->support * run->support;
 #endif
-#ifdef SPH_CSPH
-    real c_i_t[3][3];
-    symt_load(csph[i], c_i_t);
-#else
-    (void)csph;
-#endif
-#ifdef SPH_AV_LIMITED
-    real l_i[3][3];
-    fullt_load(velocity_gradient[i], l_i);
-#else
-    (void)velocity_gradient;
-#endif
-#ifdef SPH_AV_SWITCH
-    /* beta follows alpha in the case's ratio (Morris & Monaghan 1997: beta = 2 alpha) */
-    const real alpha_i = av_alpha[i],
-               beta_per_alpha = run->av_alpha > 0 ? run->av_beta / run->av_alpha : (real)0;
-#else
-    (void)av_alpha;
-#endif
-    real acc[3] = {0, 0, 0};
-    real de_viscous = 0, de_stress = 0; /* the two artificial heatings */
-    vec xsph = VEC_ZERO;
-    FOR_EACH_NEIGHBOUR(i, j)
+    struct pass2_lanes_i I;
+    pass2_gather(&I, &b, n, pos, pos0, vel, rho, pressure, deviatoric_stress, artificial_stress,
+                 csph, sound_speed, velocity_gradient, av_alpha);
+    realv acc[3] = {(realv)0, (realv)0, (realv)0}, xsph[3] = {(realv)0, (realv)0, (realv)0};
+    realv de_viscous = (realv)0, de_stress = (realv)0; /* the two artificial heatings */
+    FOR_EACH_LANE_NEIGHBOUR(b, j)
     {
-        const vec xij = xi - pos[j];
-        const real r2 = dot(xij, xij);
-        const real h = PAIR_H(i, j);
-        if (r2 > 0 && r2 < q2 * h * h) { /* excludes i, and a coincident pair (grad W = 0) */
-            const real r = sqrt(r2);
-            const vec vij = vi - vel[j];
-            /* axisymmetric: sigma_i weighed by m_j / r_j, sigma_j by m_j / r_i,
-             * the artificial terms by m_j / r_ij (common.cl, pair_mass) */
-            const real rho_j = rho[j], m_j = plane_mass(mass[j], pos[j], run);
-            const real m_pair = pair_mass(mass[j], xi, pos[j], run);
-#ifdef SPH_AXISYMMETRIC
-            const real m_j_at_i = mass[j] / axis_radius(xi.x, run);
-#else
-            const real m_j_at_i = m_j;
+        realv xij[3], r2;
+#ifdef SPH_GRADED
+        const hreal h = LANE_PAIR_H(b, j), inv_h = (real)1 / h, support2 = q2 * h * h;
 #endif
-            const real rho_mean = (real)0.5 * (rho_i + rho_j);
-#ifdef SPH_AV_LIMITED
-            const vec jump = limited_jump(vij, xij, r, h, l_i, velocity_gradient, j, run);
-#else
-            const vec jump = vij;
-#endif
-#ifdef SPH_AV_SWITCH
-            const real alpha_ij = (real)0.5 * (alpha_i + av_alpha[j]),
-                       beta_ij = alpha_ij * beta_per_alpha;
-#else
-            const real alpha_ij = run->av_alpha, beta_ij = run->av_beta;
-#endif
-            const real pi_ij = artificial_viscosity(
-                jump, xij, r2, h, (real)0.5 * (c_i + sound_speed[j]), rho_mean, alpha_ij, beta_ij);
-            const real dwdr_r = kernel_dwdr(r, h) / r;
-            /* the viscosity's heating, -1/2 m_j v_ij . (-Pi g): its share of de */
-            de_viscous += (real)0.5 * m_pair * pi_ij * dwdr_r * dot(vij, xij);
-            real grad[3] = {0, 0, 0}, g_i[3], g_j[3];
+        const maskv near = lane_pair(I.x, pos[j], support2, xij, &r2);
+        if (!lanes_any(near))
+            continue;
+        const realv r = sqrt(r2), q = r * inv_h;
+        const vec vj = vel[j];
+        realv vij[3];
 #pragma unroll
-            for (int a = 0; a < SPH_DIM; ++a)
-                grad[a] = dwdr_r * vec_get(xij, a);
-#ifdef SPH_CSPH
-            transpose_times(c_i_t, grad, g_i);
-            symt_transpose_times(csph[j], grad, g_j);
-#else
+        for (int a = 0; a < 3; ++a)
+            vij[a] = a < SPH_DIM ? I.v[a] - vec_get(vj, a) : (realv)0;
+        PAIR_MASSES(I, j);
+        const real rho_j = rho[j], m_over_rho_j = m_j / rho_j;
+        const realv inv_rho_mean = (real)2 / (I.rho + rho_j);
+        const realv pi_ij = pass2_viscosity(&I, vij, xij, r, r2, h, inv_h, inv_rho_mean, j,
+                                            sound_speed, velocity_gradient, av_alpha, run);
+        const realv dwdr_r = SPH_SELECT((realv)0, kernel_dwdr_over_r_q(q, h), near);
+        /* the viscosity's heating, -1/2 m v_ij . (-Pi g): its share of de */
+        de_viscous += (real)0.5 * m_pair * pi_ij * dwdr_r *
+                      (vij[0] * xij[0] + vij[1] * xij[1] + vij[2] * xij[2]);
+        realv grad[3], g_i[3], g_j[3];
+        pass2_gradients(&I, dwdr_r, xij, csph, j, grad, g_i, g_j);
+        /* (sigma_i . g_i + sigma_j . g_j) / (rho_i rho_j) and the
+         * artificial terms (f^n (R_i + R_j) - Pi I) . g */
+        real sigma_j[3][3];
+        total_stress(pressure[j], deviatoric_stress[j], sigma_j);
+        realv t_i[3], t_j[3], extra[3];
 #pragma unroll
-            for (int a = 0; a < 3; ++a)
-                g_i[a] = g_j[a] = grad[a];
-#endif
-            /* (sigma_i . g_i + sigma_j . g_j) / (rho_i rho_j) and the
-             * artificial terms (f^n (R_i + R_j) - Pi I) . g */
-            real t_i[3], t_j[3], extra[3];
-            matrix_times(sigma_i, g_i, t_i);
-            stress_times(pressure[j], deviatoric_stress[j], g_j, t_j);
+        for (int a = 0; a < SPH_DIM; ++a) {
+            t_i[a] = t_j[a] = (realv)0;
 #pragma unroll
-            for (int a = 0; a < SPH_DIM; ++a)
-                extra[a] = -pi_ij * grad[a];
-#ifdef SPH_ARTIFICIAL_STRESS
-            {
-                /* Monaghan's weight (W(r) / W(dx))^n; by default less the same
-                 * weight at the pair's initial distance: zero for the
-                 * undeformed lattice and for pairs that separate, so the term
-                 * acts against clumping only and adds no traction at free
-                 * surfaces (weight: lattice keeps Monaghan's original) */
-                real fn = artificial_stress_weight(r, h, run);
-#ifndef SPH_AS_LATTICE_WEIGHT
-                fn =
-                    fmax(fn - artificial_stress_weight(length(pos0[i] - pos0[j]), h, run), (real)0);
-#endif
-                if (fn > 0) {
-                    real r_j[3][3], rg[3];
-                    symt_load(artificial_stress[j], r_j);
-#pragma unroll
-                    for (int a = 0; a < SPH_DIM; ++a)
-#pragma unroll
-                        for (int b = 0; b < SPH_DIM; ++b)
-                            r_j[a][b] += r_i[a][b];
-                    matrix_times(r_j, grad, rg);
-#pragma unroll
-                    for (int a = 0; a < SPH_DIM; ++a) {
-                        extra[a] += fn * rg[a];
-                        de_stress -= (real)0.5 * m_pair * fn * vec_get(vij, a) * rg[a];
-                    }
-                }
+            for (int c = 0; c < SPH_DIM; ++c) {
+                t_i[a] += I.sigma[a][c] * g_i[c];
+                t_j[a] += sigma_j[a][c] * g_j[c];
             }
+            extra[a] = -pi_ij * grad[a];
+        }
+#ifdef SPH_ARTIFICIAL_STRESS
+        pass2_artificial_stress(&I, r, h, grad, vij, m_pair, j, pos0, artificial_stress, run, extra,
+                                &de_stress);
 #endif
 #pragma unroll
-            for (int a = 0; a < SPH_DIM; ++a) /* sigma_i already carries 1 / rho_i */
-                acc[a] += (m_j * t_i[a] + m_j_at_i * t_j[a] / rho_i) / rho_j + m_pair * extra[a];
+        for (int a = 0; a < SPH_DIM; ++a)
+            acc[a] += m_over_rho_j * (t_i[a] + t_j[a] * I.inv_rho * at_i) + m_pair * extra[a];
 #ifdef SPH_XSPH
-            xsph -= (m_j / rho_mean * kernel_w(r, h)) * vij;
+        const realv w = SPH_SELECT((realv)0, kernel_w_q(q, h), near);
+#pragma unroll
+        for (int a = 0; a < SPH_DIM; ++a)
+            xsph[a] -= (m_j * inv_rho_mean * w) * vij[a];
 #endif
-        }
     }
-    END_FOR_EACH_NEIGHBOUR
+    END_FOR_EACH_LANE_NEIGHBOUR
 #ifdef SPH_AXISYMMETRIC
     /* The pair sum above is the symmetric SPH form of (1 / eta) div(r sigma)
      * with eta = rho r the ring mass per radian and unit area
@@ -301,16 +404,17 @@ __kernel void pass2_momentum_energy(
      * as a body force, and it is radial: the axial pair forces cancel
      * exactly, so the axial momentum of target and projectile is conserved
      * (the form with sigma_rr / r and sigma_rz / r source terms of Petschek
-     * & Libersky 1993 does not conserve it near the axis). sigma_i holds
-     * sigma / rho_i. */
-    acc[0] -= sigma_i[2][2] / axis_radius(xi.x, run);
+     * & Libersky 1993 does not conserve it near the axis). */
+    acc[0] -= I.sigma[2][2] / fmax(fabs(I.x[0]), run->axis_radius);
 #endif
-    acceleration[i] = vec_make(acc[0], acc[1], acc[2]);
-    energy_rate[i] = de_viscous + de_stress;
-    viscous_heating[i] = de_viscous;
-#ifdef SPH_XSPH
-    xsph_velocity[i] = run->xsph_epsilon * xsph;
-#else
-    xsph_velocity[i] = VEC_ZERO;
-#endif
+    for (int l = 0; l < SPH_LANES; ++l) {
+        if (!lane_live(&b, l))
+            continue;
+        const int i = b.first + l;
+        acceleration[i] = vec_make(lane_of(acc[0], l), lane_of(acc[1], l), lane_of(acc[2], l));
+        energy_rate[i] = lane_of(de_viscous + de_stress, l);
+        viscous_heating[i] = lane_of(de_viscous, l);
+        store_xsph(xsph_velocity, i,
+                   vec_make(lane_of(xsph[0], l), lane_of(xsph[1], l), lane_of(xsph[2], l)), run);
+    }
 }

@@ -1,10 +1,11 @@
 /*
  * Smoothing kernels W(r, h) and dW/dr, normalised in 1-, 2- and 3-D.
  *
- * Written in the common subset of C11 and OpenCL C (scalars only) so the
- * unit tests compile this very file on the host and check normalisation and
- * gradient moments (tests/test_smoothing.c). On the device the kernel type
- * and dimension are compile-time constants and the switches fold away.
+ * Written in the common subset of C11 and OpenCL C so the unit tests compile
+ * this very file on the host and check normalisation and gradient moments
+ * (tests/test_smoothing.c); on the device the shapes run on lane vectors
+ * (below) and the kernel type and dimension are compile-time constants, so
+ * the switches fold away.
  *
  * Shapes: thesis Fig. 3.1 and shared/REFERENCES.md 4. The normalisation
  * constants sigma_d below are derived here (the thesis table has misprints):
@@ -75,87 +76,115 @@ static inline real sph_kernel_sigma(int type, int dim)
     }
 }
 
-static inline real sph_cube(real x)
-{
-    return x * x * x;
-}
-static inline real sph_pow4(real x)
-{
-    return (x * x) * (x * x);
-}
-static inline real sph_pow5(real x)
-{
-    return sph_pow4(x) * x;
-}
+/* The shapes are written once, for one value or a lane vector of them
+ * (realv, kernels/lane_types.cl): branch-free, with SPH_SELECT(a, b, c) =
+ * c ? b : a per lane. Compiled as C (host/smoothing.c, the unit tests)
+ * realv is a real. On the device `type` is the build's SPH_KERNEL, so one
+ * branch survives. */
+#if defined(__OPENCL_VERSION__) || defined(__OPENCL_C_VERSION__)
+/* the cast: a one-lane comparison is an int, which select's double form
+ * cannot take unambiguously */
+#define SPH_SELECT(a, b, c) select(a, b, (maskv)(c))
+#else
+typedef real realv;
+#define SPH_SELECT(a, b, c) ((c) ? (b) : (a))
+#endif
 
 /* The kernel's shape f(q), without sigma_d / h^d. */
-static inline real sph_kernel_shape(int type, real q)
+static inline realv sph_kernel_shape(int type, realv q)
 {
-    const real pi = (real)SPH_PI;
-    const real k = (real)SPH_DOUBLE_COSINE_K;
+    const realv zero = (realv)0, one = (realv)1, two = (realv)2;
+    const real pi = (real)SPH_PI, k = (real)SPH_DOUBLE_COSINE_K;
     switch (type) {
-    case SPH_KERNEL_CUBIC_SPLINE:
-        if (q < (real)1)
-            return (real)1 - (real)1.5 * q * q + (real)0.75 * q * q * q;
-        return q < (real)2 ? (real)0.25 * sph_cube((real)2 - q) : (real)0;
-    case SPH_KERNEL_GAUSSIAN:
-        return q <= (real)3 ? exp(-q * q) - (real)SPH_EXPM9 : (real)0;
-    case SPH_KERNEL_QUINTIC_SPLINE: {
-        real w = 0;
-        if (q < (real)3)
-            w += sph_pow5((real)3 - q);
-        if (q < (real)2)
-            w -= (real)6 * sph_pow5((real)2 - q);
-        if (q < (real)1)
-            w += (real)15 * sph_pow5((real)1 - q);
-        return w;
+    case SPH_KERNEL_CUBIC_SPLINE: {
+        const realv t = fmax(two - q, zero);
+        return SPH_SELECT((real)0.25 * t * t * t, one - (real)1.5 * q * q + (real)0.75 * q * q * q,
+                          q < one);
     }
-    case SPH_KERNEL_WENDLAND_C2:
-        return q < (real)2 ? sph_pow4((real)1 - (real)0.5 * q) * ((real)2 * q + (real)1) : (real)0;
+    case SPH_KERNEL_GAUSSIAN:
+        return SPH_SELECT(zero, exp(-q * q) - (real)SPH_EXPM9, q <= (real)3);
+    case SPH_KERNEL_QUINTIC_SPLINE: {
+        const realv a = fmax((real)3 - q, zero), b = fmax(two - q, zero), c = fmax(one - q, zero);
+        const realv a2 = a * a, b2 = b * b, c2 = c * c;
+        return a2 * a2 * a - (real)6 * b2 * b2 * b + (real)15 * c2 * c2 * c;
+    }
+    case SPH_KERNEL_WENDLAND_C2: {
+        const realv t = fmax(one - (real)0.5 * q, zero);
+        return (t * t) * (t * t) * ((real)2 * q + one);
+    }
     case SPH_KERNEL_DOUBLE_COSINE:
-        return q <= k ? (real)4 * cos(pi * q / k) + cos((real)2 * pi * q / k) + (real)3 : (real)0;
-    default: /* SPH_KERNEL_HYPERBOLIC */
-        if (q <= (real)1)
-            return q * q * q - (real)6 * q + (real)6;
-        return q <= (real)2 ? sph_cube((real)2 - q) : (real)0;
+        return SPH_SELECT(zero, (real)4 * cos(pi * q / k) + cos((real)2 * pi * q / k) + (real)3,
+                          q <= k);
+    default: { /* SPH_KERNEL_HYPERBOLIC */
+        const realv t = fmax(two - q, zero);
+        return SPH_SELECT(t * t * t, q * q * q - (real)6 * q + (real)6, q <= one);
+    }
     }
 }
 
 /* df/dq. */
-static inline real sph_kernel_shape_dq(int type, real q)
+static inline realv sph_kernel_shape_dq(int type, realv q)
 {
-    const real pi = (real)SPH_PI;
-    const real k = (real)SPH_DOUBLE_COSINE_K;
+    const realv zero = (realv)0, one = (realv)1, two = (realv)2;
+    const real pi = (real)SPH_PI, k = (real)SPH_DOUBLE_COSINE_K;
     switch (type) {
-    case SPH_KERNEL_CUBIC_SPLINE:
-        if (q < (real)1)
-            return (real)-3 * q + (real)2.25 * q * q;
-        return q < (real)2 ? (real)-0.75 * ((real)2 - q) * ((real)2 - q) : (real)0;
-    case SPH_KERNEL_GAUSSIAN:
-        return q <= (real)3 ? (real)-2 * q * exp(-q * q) : (real)0;
-    case SPH_KERNEL_QUINTIC_SPLINE: {
-        real d = 0;
-        if (q < (real)3)
-            d -= (real)5 * sph_pow4((real)3 - q);
-        if (q < (real)2)
-            d += (real)30 * sph_pow4((real)2 - q);
-        if (q < (real)1)
-            d -= (real)75 * sph_pow4((real)1 - q);
-        return d;
+    case SPH_KERNEL_CUBIC_SPLINE: {
+        const realv t = fmax(two - q, zero);
+        return SPH_SELECT((real)-0.75 * t * t, (real)-3 * q + (real)2.25 * q * q, q < one);
     }
-    case SPH_KERNEL_WENDLAND_C2:
-        /* d/dq (1 - q/2)^4 (2q + 1) = -5 q (1 - q/2)^3 */
-        return q < (real)2 ? (real)-5 * q * sph_cube((real)1 - (real)0.5 * q) : (real)0;
+    case SPH_KERNEL_GAUSSIAN:
+        return SPH_SELECT(zero, (real)-2 * q * exp(-q * q), q <= (real)3);
+    case SPH_KERNEL_QUINTIC_SPLINE: {
+        const realv a = fmax((real)3 - q, zero), b = fmax(two - q, zero), c = fmax(one - q, zero);
+        const realv a2 = a * a, b2 = b * b, c2 = c * c;
+        return (real)-5 * a2 * a2 + (real)30 * b2 * b2 - (real)75 * c2 * c2;
+    }
+    case SPH_KERNEL_WENDLAND_C2: { /* d/dq (1 - q/2)^4 (2q + 1) = -5 q (1 - q/2)^3 */
+        const realv t = fmax(one - (real)0.5 * q, zero);
+        return (real)-5 * q * t * t * t;
+    }
     case SPH_KERNEL_DOUBLE_COSINE:
-        return q <= k ? -(real)4 * pi / k * sin(pi * q / k) -
-                            (real)2 * pi / k * sin((real)2 * pi * q / k)
-                      : (real)0;
-    default: /* SPH_KERNEL_HYPERBOLIC */
-        if (q <= (real)1)
-            return (real)3 * q * q - (real)6;
-        return q <= (real)2 ? (real)-3 * ((real)2 - q) * ((real)2 - q) : (real)0;
+        return SPH_SELECT(zero,
+                          -(real)4 * pi / k * sin(pi * q / k) -
+                              (real)2 * pi / k * sin((real)2 * pi * q / k),
+                          q <= k);
+    default: { /* SPH_KERNEL_HYPERBOLIC */
+        const realv t = fmax(two - q, zero);
+        return SPH_SELECT((real)-3 * t * t, (real)3 * q * q - (real)6, q <= one);
+    }
     }
 }
+
+/* (df/dq) / q, what a kernel gradient dW/dr x_ij / r needs: for the
+ * Wendland C2 and the Gaussian kernels q cancels, so the pair loops do not
+ * divide by r (a vector division costs many multiply-adds on a CPU); the
+ * others divide. */
+static inline realv sph_kernel_shape_dq_over_q(int type, realv q)
+{
+    if (type == SPH_KERNEL_WENDLAND_C2) {
+        const realv t = fmax((realv)1 - (real)0.5 * q, (realv)0);
+        return (real)-5 * t * t * t;
+    }
+    if (type == SPH_KERNEL_GAUSSIAN)
+        return SPH_SELECT((realv)0, (real)-2 * exp(-q * q), q <= (real)3);
+    return sph_kernel_shape_dq(type, q) / q;
+}
+
+/* One value of the shapes where the lanes are wider (the health
+ * indicators; sums that are not over lane blocks): lane 0 of a broadcast. */
+#if defined(SPH_LANES) && SPH_LANES > 1
+static inline real sph_kernel_shape_scalar(int type, real q)
+{
+    return lane_of(sph_kernel_shape(type, (realv)q), 0);
+}
+static inline real sph_kernel_shape_dq_scalar(int type, real q)
+{
+    return lane_of(sph_kernel_shape_dq(type, (realv)q), 0);
+}
+#else
+#define sph_kernel_shape_scalar sph_kernel_shape
+#define sph_kernel_shape_dq_scalar sph_kernel_shape_dq
+#endif
 
 /* 1 / h^dim */
 static inline real sph_inv_h_pow(real h, int dim)
@@ -167,14 +196,15 @@ static inline real sph_inv_h_pow(real h, int dim)
 /* W(r, h) */
 static inline real sph_kernel_value(int type, int dim, real r, real h)
 {
-    return sph_kernel_sigma(type, dim) * sph_inv_h_pow(h, dim) * sph_kernel_shape(type, r / h);
+    return sph_kernel_sigma(type, dim) * sph_inv_h_pow(h, dim) *
+           sph_kernel_shape_scalar(type, r / h);
 }
 
 /* dW/dr (r, h); the gradient with respect to x_i is dW/dr (x_i - x_j) / r. */
 static inline real sph_kernel_dwdr(int type, int dim, real r, real h)
 {
     return sph_kernel_sigma(type, dim) * sph_inv_h_pow(h, dim) / h *
-           sph_kernel_shape_dq(type, r / h);
+           sph_kernel_shape_dq_scalar(type, r / h);
 }
 
 #endif /* SPH_SMOOTHING_CL */

@@ -29,6 +29,19 @@
  * work-conjugate to the deformation rate that the material update uses.
  */
 
+#ifdef SPH_TOTAL_LAGRANGIAN
+#if SPH_LANES != 1
+#error "the total Lagrangian form runs one particle per work-item (host/state.c, solver_lanes)"
+#endif
+
+/* The three components of a vec, as the tensor helpers take them. */
+static inline void vec_components(vec v, real out[3])
+{
+#pragma unroll
+    for (int a = 0; a < 3; ++a)
+        out[a] = a < SPH_DIM ? vec_get(v, a) : (real)0;
+}
+
 /* Whether j (not i) is a reference neighbour of i, given X_ij = X_i - X_j;
  * if so its reference volume V0_j = m_j / rho0_j and the gradient
  * g_ij = grad_X W(|X_ij|) (with respect to X_i). */
@@ -66,11 +79,10 @@ __kernel void tl_correction(__global const vec *restrict pos0, __global const re
         vec grad;
         if (tl_reference_pair(j != i, xij, support2, h, mass[j] / materials[material[j]].density,
                               &volume, &grad)) {
-#pragma unroll
-            for (int a = 0; a < SPH_DIM; ++a)
-#pragma unroll
-                for (int b = 0; b < SPH_DIM; ++b)
-                    moment[a][b] -= volume * vec_get(xij, a) * vec_get(grad, b);
+            real x[3], g[3];
+            vec_components(xij, x);
+            vec_components(grad, g);
+            outer_add(moment, -volume, x, g);
         }
     }
     END_FOR_EACH_NEIGHBOUR
@@ -111,14 +123,12 @@ tl_deformation(__global const vec *restrict pos, __global const vec *restrict po
         vec grad;
         if (tl_reference_pair(j != i, big_xi - pos0[j], support2, h,
                               mass[j] / materials[material[j]].density, &volume, &grad)) {
-            const vec xji = pos[j] - xi, wji = vel_half[j] + xsph_velocity[j] - wi;
-#pragma unroll
-            for (int a = 0; a < SPH_DIM; ++a)
-#pragma unroll
-                for (int b = 0; b < SPH_DIM; ++b) {
-                    sum_x[a][b] += volume * vec_get(xji, a) * vec_get(grad, b);
-                    sum_w[a][b] += volume * vec_get(wji, a) * vec_get(grad, b);
-                }
+            real x[3], w[3], g[3];
+            vec_components(pos[j] - xi, x);
+            vec_components(vel_half[j] + xsph_velocity[j] - wi, w);
+            vec_components(grad, g);
+            outer_add(sum_x, volume, x, g);
+            outer_add(sum_w, volume, w, g);
         }
     }
     END_FOR_EACH_NEIGHBOUR
@@ -162,10 +172,7 @@ __kernel void tl_first_piola(__global const real *restrict rho,
     if (i >= n)
         return;
     real sigma[3][3], f[3][3], f_inv[3][3], f_inv_t[3][3], c_t[3][3], p[3][3], a[3][3];
-    symt_load(deviatoric_stress[i], sigma);
-#pragma unroll
-    for (int k = 0; k < 3; ++k)
-        sigma[k][k] -= pressure[i];
+    total_stress(pressure[i], deviatoric_stress[i], sigma);
     fullt_load(deformation_gradient[i], f);
     matrix_invert_or_identity(f, f_inv);
     symt_load(correction[i], c_t);
@@ -277,8 +284,8 @@ __kernel void tl_momentum(
                 const real r = sqrt(r2);
                 const real rho_mean = (real)0.5 * (rho[i] + rho[j]);
                 const real pi_ij = artificial_viscosity(
-                    vij, xij, r2, h, (real)0.5 * (sound_speed[i] + sound_speed[j]), rho_mean,
-                    run->av_alpha, run->av_beta);
+                    dot(vij, xij), r2, h, (real)0.5 * (sound_speed[i] + sound_speed[j]),
+                    (real)1 / rho_mean, run->av_alpha, run->av_beta);
                 const vec visc = (-mass[j] * pi_ij * kernel_dwdr(r, h) / r) * xij;
                 acc_extra += visc;
                 de -= (real)0.5 * dot(vij, visc);
@@ -307,9 +314,7 @@ __kernel void tl_momentum(
     energy_rate[i] = de;
     viscous_heating[i] = de; /* no other artificial heating in this form */
     hourglass_power[i] = hourglass_rate;
-#ifdef SPH_XSPH
-    xsph_velocity[i] = run->xsph_epsilon * xsph;
-#else
-    xsph_velocity[i] = VEC_ZERO;
-#endif
+    store_xsph(xsph_velocity, i, xsph, run);
 }
+
+#endif /* SPH_TOTAL_LAGRANGIAN */

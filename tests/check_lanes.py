@@ -1,7 +1,7 @@
 #!/usr/bin/python3
-"""The lane passes (kernels/lanes.cl) against the plain passes: the same
-case run with numerics.neighbour_loop lanes and plain must give the same
-history to float rounding.
+"""The lane loop (kernels/lanes.cl, 8 particles per work-item) against the
+plain loop (one): the same case run with numerics.neighbour_loop lanes and
+plain must give the same history to float rounding.
 
 usage: check_lanes.py SPH CASE OUT_FOLDER RTOL [sph --set arguments ...]
 
@@ -9,11 +9,10 @@ Compares every column of history.csv row by row, each relative to the
 column's largest magnitude (a quantity that passes through zero is judged
 against its scale, not its value near zero), and fails above RTOL; the
 Swegle fraction, a count by the sign of a stress that can sit at zero, is
-left out. The
-sums over neighbours run in the same order in both loops; what differs is
-rounding inside a pair term (vector against scalar evaluation,
-contraction, and reciprocals formed once in the lane pass 2), so RTOL is a
-few float ulps grown over the steps.
+left out. Both loops run the same pair terms and sum over the neighbours
+in the same order, so on PoCL they agree to the bit; what may differ on
+another device is the compiler's contraction of vector against scalar
+arithmetic, so RTOL is a few float ulps grown over the steps.
 """
 import csv
 import math
