@@ -334,6 +334,37 @@ static inline real plane_mass(real mass, vec x, __constant const struct sph_run_
 /* Work-group size of the reduction kernels (grid bounds, per-step reduce). */
 #define REDUCE_WG 64
 
+/* How a slot of a work-group reduction combines two values. */
+#define REDUCE_SUM 0
+#define REDUCE_MIN 1
+#define REDUCE_MAX 2
+
+/* The work-group's tree reduction of `slots` values per work-item (mine,
+ * combined slot by slot as op[k] says) into partials[group * slots + k],
+ * for the host to combine over the groups. acc: __local scratch of
+ * REDUCE_WG * slots reals. Every work-item of the group must call it. */
+static inline void work_group_reduce(__local real *acc, const real *mine, const uchar *op,
+                                     int slots, __global real *partials)
+{
+    const int lid = get_local_id(0);
+    for (int k = 0; k < slots; ++k)
+        acc[lid * slots + k] = mine[k];
+    barrier(CLK_LOCAL_MEM_FENCE);
+    for (int stride = REDUCE_WG / 2; stride > 0; stride >>= 1) {
+        if (lid < stride)
+            for (int k = 0; k < slots; ++k) {
+                const real a = acc[lid * slots + k], b = acc[(lid + stride) * slots + k];
+                acc[lid * slots + k] = op[k] == REDUCE_MIN   ? fmin(a, b)
+                                       : op[k] == REDUCE_MAX ? fmax(a, b)
+                                                             : a + b;
+            }
+        barrier(CLK_LOCAL_MEM_FENCE);
+    }
+    if (lid == 0)
+        for (int k = 0; k < slots; ++k)
+            partials[get_group_id(0) * slots + k] = acc[k];
+}
+
 /* The particles of a reduction's work-item: its work-group takes one
  * contiguous block of [0, n) and the group's work-items stride through the
  * block, so that on a GPU neighbouring work-items read neighbouring words and

@@ -36,33 +36,16 @@ __kernel void grid_cell_keys(__global const vec *restrict pos, __global ulong *r
 __kernel __attribute__((reqd_work_group_size(REDUCE_WG, 1, 1))) void
 grid_bounds(__global const vec *restrict pos, __global real *restrict partials, const int n)
 {
-    __local real lo[REDUCE_WG][3], hi[REDUCE_WG][3];
-    const int lid = get_local_id(0);
-    real mn[3] = {INFINITY, INFINITY, INFINITY}, mx[3] = {-INFINITY, -INFINITY, -INFINITY};
+    __local real acc[REDUCE_WG][6];
+    real box[6] = {INFINITY, INFINITY, INFINITY, -INFINITY, -INFINITY, -INFINITY};
+    const uchar op[6] = {REDUCE_MIN, REDUCE_MIN, REDUCE_MIN, REDUCE_MAX, REDUCE_MAX, REDUCE_MAX};
     FOR_GROUP_BLOCK (i, n)
         for (int a = 0; a < SPH_DIM; ++a) {
             const real x = vec_get(pos[i], a);
-            mn[a] = fmin(mn[a], x);
-            mx[a] = fmax(mx[a], x);
+            box[a] = fmin(box[a], x);
+            box[3 + a] = fmax(box[3 + a], x);
         }
-    for (int a = 0; a < 3; ++a) {
-        lo[lid][a] = mn[a];
-        hi[lid][a] = mx[a];
-    }
-    barrier(CLK_LOCAL_MEM_FENCE);
-    for (int stride = REDUCE_WG / 2; stride > 0; stride >>= 1) {
-        if (lid < stride)
-            for (int a = 0; a < 3; ++a) {
-                lo[lid][a] = fmin(lo[lid][a], lo[lid + stride][a]);
-                hi[lid][a] = fmax(hi[lid][a], hi[lid + stride][a]);
-            }
-        barrier(CLK_LOCAL_MEM_FENCE);
-    }
-    if (lid == 0)
-        for (int a = 0; a < 3; ++a) {
-            partials[get_group_id(0) * 6 + a] = lo[0][a];
-            partials[get_group_id(0) * 6 + 3 + a] = hi[0][a];
-        }
+    work_group_reduce(&acc[0][0], box, op, 6, partials);
 }
 
 /* One compare-exchange stage of a bitonic sort of n keys, every exchange

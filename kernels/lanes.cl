@@ -87,6 +87,8 @@ static inline int lane_block_setup(struct lane_block *b, __global const int *res
                                    const int n)
 {
     b->first = (int)get_global_id(0) * SPH_LANES;
+    if (b->first >= n)
+        return 0;
     b->lo = (int4)(INT_MAX);
     b->hi = (int4)(INT_MIN);
     mask_union live;
@@ -119,9 +121,15 @@ static inline int lane_block_setup(struct lane_block *b, __global const int *res
 }
 
 /* The pair smoothing length of the lanes with candidate j; on a uniform
- * lattice run->h, set once before the loop. */
+ * lattice run->h, set once before the loop by LANE_PASS_CONSTANTS (h,
+ * 1 / h and the support squared; on a graded lattice (support / h)^2, from
+ * which LANE_PAIR_H's support follows). */
 #ifdef SPH_GRADED
 #define LANE_PAIR_H(b, j) ((real)0.5 * run->h * ((b).scale + spacing_scale(flags[j])))
+#define LANE_PASS_CONSTANTS const real q2 = (run->support / run->h) * (run->support / run->h)
+#else
+#define LANE_PASS_CONSTANTS                                                                        \
+    const real h = run->h, inv_h = (real)1 / h, support2 = run->support * run->support
 #endif
 
 /* Whether lane l of a block holds a particle its pass updates (set up by

@@ -106,14 +106,9 @@ __kernel void pass1_velocity_gradient(
     __global real *restrict av_alpha, const real dt, MATERIAL_STATE_ARGS, const int n)
 {
     struct lane_block b;
-    if ((int)get_global_id(0) * SPH_LANES >= n ||
-        !lane_block_setup(&b, flags, sort_keys, grid_dims, n))
+    if (!lane_block_setup(&b, flags, sort_keys, grid_dims, n))
         return;
-#ifdef SPH_GRADED
-    const real q2 = (run->support / run->h) * (run->support / run->h); /* (support / h)^2 */
-#else
-    const real h = run->h, inv_h = (real)1 / h, support2 = run->support * run->support;
-#endif
+    LANE_PASS_CONSTANTS;
     realv xi[3], vi[3];
     lane_positions(pos, &b, n, xi);
     gather_vec(vel, &b, n, vi);

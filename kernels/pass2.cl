@@ -326,14 +326,9 @@ __kernel void pass2_momentum_energy(
     __global vec *restrict xsph_velocity, const int n)
 {
     struct lane_block b;
-    if ((int)get_global_id(0) * SPH_LANES >= n ||
-        !lane_block_setup(&b, flags, sort_keys, grid_dims, n))
+    if (!lane_block_setup(&b, flags, sort_keys, grid_dims, n))
         return;
-#ifdef SPH_GRADED
-    const real q2 = (run->support / run->h) * (run->support / run->h); /* (support / h)^2 */
-#else
-    const real h = run->h, inv_h = (real)1 / h, support2 = run->support * run->support;
-#endif
+    LANE_PASS_CONSTANTS;
     struct pass2_lanes_i I;
     pass2_gather(&I, &b, n, pos, pos0, vel, rho, pressure, deviatoric_stress, artificial_stress,
                  csph, sound_speed, velocity_gradient, av_alpha);

@@ -37,7 +37,6 @@ projectile_contact(__global const vec *restrict pos, __global const vec *restric
                    __global real *restrict partials, const int n)
 {
     __local real acc[REDUCE_WG][SPH_CONTACT_SLOTS];
-    const int lid = get_local_id(0);
     real mine[SPH_CONTACT_SLOTS];
     for (int k = 0; k < SPH_CONTACT_SLOTS; ++k)
         mine[k] = 0;
@@ -83,18 +82,10 @@ projectile_contact(__global const vec *restrict pos, __global const vec *restric
         const vec v_next = vel_half[i] + (real)0.5 * (dt_prev + dt) * acceleration[i];
         mine[SPH_CONTACT_DISSIPATION] += m * (a_n - spring) * dot(sphere_velocity - v_next, normal);
     }
+    uchar op[SPH_CONTACT_SLOTS];
     for (int k = 0; k < SPH_CONTACT_SLOTS; ++k)
-        acc[lid][k] = mine[k];
-    barrier(CLK_LOCAL_MEM_FENCE);
-    for (int stride = REDUCE_WG / 2; stride > 0; stride >>= 1) {
-        if (lid < stride)
-            for (int k = 0; k < SPH_CONTACT_SLOTS; ++k)
-                acc[lid][k] += acc[lid + stride][k];
-        barrier(CLK_LOCAL_MEM_FENCE);
-    }
-    if (lid == 0)
-        for (int k = 0; k < SPH_CONTACT_SLOTS; ++k)
-            partials[get_group_id(0) * SPH_CONTACT_SLOTS + k] = acc[0][k];
+        op[k] = REDUCE_SUM;
+    work_group_reduce(&acc[0][0], mine, op, SPH_CONTACT_SLOTS, partials);
 }
 
 /* One work-item: the force on the sphere is minus the sum of the contact
@@ -146,7 +137,6 @@ projectile_cavity(__global const vec *restrict pos, __global const int *restrict
                   __global real *restrict partials, const int n)
 {
     __local real acc[REDUCE_WG][2 * SPH_MAX_CAVITY_PROBES];
-    const int lid = get_local_id(0);
     real mine[2 * SPH_MAX_CAVITY_PROBES];
     for (int k = 0; k < SPH_MAX_CAVITY_PROBES; ++k) {
         mine[2 * k] = INFINITY;
@@ -171,17 +161,8 @@ projectile_cavity(__global const vec *restrict pos, __global const int *restrict
         if (flag & SPH_FLAG_DAMAGED)
             mine[2 * k + 1] = fmax(mine[2 * k + 1], r + half_dx);
     }
+    uchar op[2 * SPH_MAX_CAVITY_PROBES];
     for (int k = 0; k < 2 * SPH_MAX_CAVITY_PROBES; ++k)
-        acc[lid][k] = mine[k];
-    barrier(CLK_LOCAL_MEM_FENCE);
-    for (int stride = REDUCE_WG / 2; stride > 0; stride >>= 1) {
-        if (lid < stride)
-            for (int k = 0; k < 2 * SPH_MAX_CAVITY_PROBES; ++k)
-                acc[lid][k] = (k & 1) ? fmax(acc[lid][k], acc[lid + stride][k])
-                                      : fmin(acc[lid][k], acc[lid + stride][k]);
-        barrier(CLK_LOCAL_MEM_FENCE);
-    }
-    if (lid == 0)
-        for (int k = 0; k < 2 * SPH_MAX_CAVITY_PROBES; ++k)
-            partials[get_group_id(0) * 2 * SPH_MAX_CAVITY_PROBES + k] = acc[0][k];
+        op[k] = (k & 1) ? REDUCE_MAX : REDUCE_MIN;
+    work_group_reduce(&acc[0][0], mine, op, 2 * SPH_MAX_CAVITY_PROBES, partials);
 }

@@ -27,7 +27,6 @@ reduce_step(__global const vec *restrict pos, __global const vec *restrict displ
             __global real *restrict partials, const int n)
 {
     __local real acc[REDUCE_WG][SPH_RED_SLOTS];
-    const int lid = get_local_id(0);
     real mine[SPH_RED_SLOTS];
     for (int k = 0; k < SPH_RED_SLOTS; ++k)
         mine[k] = 0;
@@ -80,25 +79,10 @@ reduce_step(__global const vec *restrict pos, __global const vec *restrict displ
         mine[SPH_RED_MOMENTUM_Z] += mass[i] * v.z;
 #endif
     }
+    uchar op[SPH_RED_SLOTS];
     for (int k = 0; k < SPH_RED_SLOTS; ++k)
-        acc[lid][k] = mine[k];
-    barrier(CLK_LOCAL_MEM_FENCE);
-    for (int stride = REDUCE_WG / 2; stride > 0; stride >>= 1) {
-        if (lid < stride)
-            for (int k = 0; k < SPH_RED_SLOTS; ++k) {
-                const real other = acc[lid + stride][k];
-                if (slot_is_max(k))
-                    acc[lid][k] = fmax(acc[lid][k], other);
-                else if (k == SPH_RED_BAD_INDEX)
-                    acc[lid][k] = fmin(acc[lid][k], other);
-                else
-                    acc[lid][k] += other;
-            }
-        barrier(CLK_LOCAL_MEM_FENCE);
-    }
-    if (lid == 0)
-        for (int k = 0; k < SPH_RED_SLOTS; ++k)
-            partials[get_group_id(0) * SPH_RED_SLOTS + k] = acc[0][k];
+        op[k] = slot_is_max(k) ? REDUCE_MAX : k == SPH_RED_BAD_INDEX ? REDUCE_MIN : REDUCE_SUM;
+    work_group_reduce(&acc[0][0], mine, op, SPH_RED_SLOTS, partials);
 }
 
 /* Neighbours of each particle, for the integrity measure (particles that
@@ -168,7 +152,6 @@ health_indicators(__global const vec *restrict pos, __global const real *restric
                   __global real *restrict partials, const int n)
 {
     __local real acc[REDUCE_WG][SPH_HEALTH_SLOTS];
-    const int lid = get_local_id(0);
     real mine[SPH_HEALTH_SLOTS];
     for (int k = 0; k < SPH_HEALTH_SLOTS; ++k)
         mine[k] = health_slot_is_min(k) ? (real)INFINITY : (real)0;
@@ -225,23 +208,10 @@ health_indicators(__global const vec *restrict pos, __global const real *restric
         if (kernel_d2wdr2(r, run->h) * sigma_n > 0) /* in units of its own spacing */
             mine[SPH_HEALTH_SWEGLE] += 1;
     }
+    uchar op[SPH_HEALTH_SLOTS];
     for (int k = 0; k < SPH_HEALTH_SLOTS; ++k)
-        acc[lid][k] = mine[k];
-    barrier(CLK_LOCAL_MEM_FENCE);
-    for (int stride = REDUCE_WG / 2; stride > 0; stride >>= 1) {
-        if (lid < stride)
-            for (int k = 0; k < SPH_HEALTH_SLOTS; ++k) {
-                const real other = acc[lid + stride][k];
-                if (health_slot_is_min(k))
-                    acc[lid][k] = fmin(acc[lid][k], other);
-                else if (k == SPH_HEALTH_NEIGHBOURS_MAX)
-                    acc[lid][k] = fmax(acc[lid][k], other);
-                else
-                    acc[lid][k] += other;
-            }
-        barrier(CLK_LOCAL_MEM_FENCE);
-    }
-    if (lid == 0)
-        for (int k = 0; k < SPH_HEALTH_SLOTS; ++k)
-            partials[get_group_id(0) * SPH_HEALTH_SLOTS + k] = acc[0][k];
+        op[k] = health_slot_is_min(k)            ? REDUCE_MIN
+                : k == SPH_HEALTH_NEIGHBOURS_MAX ? REDUCE_MAX
+                                                 : REDUCE_SUM;
+    work_group_reduce(&acc[0][0], mine, op, SPH_HEALTH_SLOTS, partials);
 }
