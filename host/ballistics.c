@@ -212,12 +212,12 @@ void solver_projectile_contact(struct solver *s, double dt, double dt_prev)
 {
     struct projectile *p = &s->projectile;
     struct real_arg a_radius, a_speed, a_dx, a_dt, a_prev;
-    SET_ARGS(s->k.projectile_contact, MEM(s->field[FIELD_POS]), MEM(s->field[FIELD_VEL]),
-             MEM(s->field[FIELD_VEL_HALF]), MEM(s->field[FIELD_MASS]), MEM(s->field[FIELD_FLAGS]),
-             MEM(s->field[FIELD_ACCELERATION]), MEM(p->state), real_value(s, &a_radius, p->radius),
-             real_value(s, &a_speed, p->stiffness_speed), real_value(s, &a_dx, s->dx),
-             real_value(s, &a_dt, dt), real_value(s, &a_prev, dt_prev), MEM(p->contact_partials),
-             INT(s->n));
+    SET_ARGS(s, s->k.projectile_contact, MEM("state", p->state),
+             real_value(s, &a_radius, "radius", p->radius),
+             real_value(s, &a_speed, "stiffness_speed", p->stiffness_speed),
+             real_value(s, &a_dx, "dx", s->dx), real_value(s, &a_dt, "dt", dt),
+             real_value(s, &a_prev, "dt_prev", dt_prev), MEM("partials", p->contact_partials),
+             INT("n", s->n));
     solver_launch(s, s->k.projectile_contact, (size_t)s->reduce_groups * REDUCE_GROUP_SIZE,
                   REDUCE_GROUP_SIZE);
 }
@@ -227,10 +227,11 @@ void solver_projectile_advance(struct solver *s, double dt, double dt_prev)
     struct projectile *p = &s->projectile;
     struct real4_arg a_mask;
     struct real_arg a_scale, a_mass, a_dt, a_prev;
-    SET_ARGS(s->k.projectile_advance, MEM(p->state), MEM(p->contact_partials),
-             INT(s->reduce_groups), real4_value(s, &a_mask, p->mask),
-             real_value(s, &a_scale, p->scale), real_value(s, &a_mass, p->mass),
-             real_value(s, &a_dt, dt), real_value(s, &a_prev, dt_prev));
+    SET_ARGS(s, s->k.projectile_advance, MEM("state", p->state),
+             MEM("partials", p->contact_partials), INT("groups", s->reduce_groups),
+             real4_value(s, &a_mask, "mask", p->mask), real_value(s, &a_scale, "scale", p->scale),
+             real_value(s, &a_mass, "sphere_mass", p->mass), real_value(s, &a_dt, "dt", dt),
+             real_value(s, &a_prev, "dt_prev", dt_prev));
     solver_launch(s, s->k.projectile_advance, 1, 1);
 }
 
@@ -239,10 +240,12 @@ static void read_cavity(struct solver *s, struct projectile_reading *out)
     struct projectile *p = &s->projectile;
     struct real4_arg a_origin, a_axis;
     struct real_arg a_surface, a_spacing, a_dx;
-    SET_ARGS(s->k.projectile_cavity, MEM(s->field[FIELD_POS]), MEM(s->field[FIELD_FLAGS]),
-             real4_value(s, &a_origin, p->origin), real4_value(s, &a_axis, p->axis),
-             real_value(s, &a_surface, p->surface), real_value(s, &a_spacing, p->probe_spacing),
-             INT(p->probe_count), real_value(s, &a_dx, s->dx), MEM(s->partials), INT(s->n));
+    SET_ARGS(s, s->k.projectile_cavity, real4_value(s, &a_origin, "origin", p->origin),
+             real4_value(s, &a_axis, "axis", p->axis),
+             real_value(s, &a_surface, "surface", p->surface),
+             real_value(s, &a_spacing, "probe_spacing", p->probe_spacing),
+             INT("probe_count", p->probe_count), real_value(s, &a_dx, "dx", s->dx),
+             MEM("partials", s->partials), INT("n", s->n));
     solver_launch(s, s->k.projectile_cavity, (size_t)s->reduce_groups * REDUCE_GROUP_SIZE,
                   REDUCE_GROUP_SIZE);
     const size_t width = 2 * SPH_MAX_CAVITY_PROBES;

@@ -123,19 +123,12 @@ void solver_ghosts_release(struct solver *s)
     solver_release_kernels(slots, ghost_kernels(g, slots));
 }
 
-static void set_arg(cl_kernel k, cl_uint index, size_t size, const void *value)
-{
-    CL_CHECK(clSetKernelArg(k, index, size, value));
-}
-
 void solver_ghosts_reindex(struct solver *s)
 {
     struct ghosts *g = &s->ghosts;
     if (g->plane_count == 0)
         return;
-    set_buffer_arg(g->index_kernel, 0, &s->field[FIELD_ID]);
-    set_buffer_arg(g->index_kernel, 1, &g->index_of_id);
-    set_arg(g->index_kernel, 2, sizeof(cl_int), &s->n);
+    SET_ARGS(s, g->index_kernel, MEM("index_of_id", g->index_of_id), INT("n", s->n));
     solver_launch(s, g->index_kernel, (size_t)s->n, 0);
 }
 
@@ -147,34 +140,24 @@ static void refresh_field(struct solver *s, enum field f)
     if (!solver_field_mirrored(s, f) || g->count == 0)
         return;
     cl_kernel k = g->refresh[info->kind];
-    cl_uint a = 0;
-    set_buffer_arg(k, a++, &s->field[f]);
-    set_buffer_arg(k, a++, &g->source_id);
-    set_buffer_arg(k, a++, &g->mask);
-    set_buffer_arg(k, a++, &g->index_of_id);
-    set_arg(k, a++, sizeof(cl_int), &s->n_real);
-    set_arg(k, a++, sizeof(cl_int), &g->count);
+#define GHOST_ARG_LIST                                                                             \
+    MEM("field", s->field[f]), MEM("ghost_source_id", g->source_id), MEM("ghost_mask", g->mask),   \
+        MEM("index_of_id", g->index_of_id), INT("n_real", s->n_real), INT("ghost_count", g->count)
     if (info->kind == ELEM_VEC) {
         const cl_int is_position = info->mirror == MIRROR_POSITION;
-        if (s->double_precision) {
-            cl_double4 plane = {{g->plane[0], g->plane[1], g->plane[2], 0}};
-            set_arg(k, a++, sizeof plane, &plane);
-        } else {
-            cl_float4 plane = {
-                {(cl_float)g->plane[0], (cl_float)g->plane[1], (cl_float)g->plane[2], 0}};
-            set_arg(k, a++, sizeof plane, &plane);
-        }
-        set_arg(k, a++, sizeof is_position, &is_position);
-    }
-    if (info->kind == ELEM_INT) {
+        struct real4_arg plane;
+        SET_ARGS(s, k, GHOST_ARG_LIST, real4_value(s, &plane, "plane", g->plane),
+                 INT("is_position", is_position));
+    } else if (info->kind == ELEM_INT) {
         const int flags = info->mirror == MIRROR_FLAGS;
         const cl_int keep = flags ? (SPH_LEVEL_MASK << SPH_LEVEL_SHIFT) |
                                         (SPH_REACH_MASK << SPH_REACH_SHIFT) | SPH_FLAG_DAMAGED
                                   : ~0;
         const cl_int set = flags ? SPH_FLAG_GHOST : 0;
-        set_arg(k, a++, sizeof keep, &keep);
-        set_arg(k, a++, sizeof set, &set);
-    }
+        SET_ARGS(s, k, GHOST_ARG_LIST, INT("keep", keep), INT("set", set));
+    } else
+        SET_ARGS(s, k, GHOST_ARG_LIST);
+#undef GHOST_ARG_LIST
     solver_launch(s, k, (size_t)g->count, 0);
 }
 
@@ -195,9 +178,7 @@ void solver_ghosts_refresh(struct solver *s, const enum field *fields, int count
 static void compact(struct solver *s)
 {
     struct ghosts *g = &s->ghosts;
-    set_buffer_arg(g->id_keys, 0, &s->field[FIELD_ID]);
-    set_buffer_arg(g->id_keys, 1, &s->sort_keys);
-    set_arg(g->id_keys, 2, sizeof(cl_int), &s->n);
+    SET_ARGS(s, g->id_keys, MEM("sort_keys", s->sort_keys), INT("n", s->n));
     solver_launch(s, g->id_keys, (size_t)s->n, 0);
     solver_bitonic_sort(s);
     solver_gather_persistent(s);
@@ -273,10 +254,7 @@ int solver_ghosts_rebuild(struct solver *s, char *error, size_t error_size)
                                       sizeof(int) * (size_t)count, source, 0, NULL, NULL));
         CL_CHECK(clEnqueueWriteBuffer(s->dev->queue, g->mask, CL_TRUE, 0,
                                       sizeof(int) * (size_t)count, mask, 0, NULL, NULL));
-        set_buffer_arg(g->init, 0, &s->field[FIELD_ID]);
-        set_buffer_arg(g->init, 1, &s->field[FIELD_FLAGS]);
-        set_arg(g->init, 2, sizeof(cl_int), &s->n_real);
-        set_arg(g->init, 3, sizeof(cl_int), &g->count);
+        SET_ARGS(s, g->init, INT("n_real", s->n_real), INT("ghost_count", g->count));
         solver_launch(s, g->init, (size_t)count, 0);
     }
     free(source), free(mask);

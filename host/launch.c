@@ -7,12 +7,105 @@
 #include "solver.h"
 
 #include <stdio.h>
+#include <string.h>
 
 #define LOCAL_SIZE 64
 
 static size_t round_up(size_t n, size_t m)
 {
     return (n + m - 1) / m * m;
+}
+
+/* The names a kernel declares its arguments with (the program is built
+ * with -cl-kernel-arg-info), read once when the kernel is made. */
+#define MAX_KERNEL_ARGS 40
+#define MAX_ARG_NAME 32
+#define MAX_SIGNATURES 96
+struct signature {
+    cl_kernel kernel;
+    char function[64];
+    int count;
+    char name[MAX_KERNEL_ARGS][MAX_ARG_NAME];
+};
+static struct signature signatures[MAX_SIGNATURES];
+
+static struct signature *signature_of(cl_kernel k)
+{
+    for (int i = 0; i < MAX_SIGNATURES; ++i)
+        if (signatures[i].kernel == k)
+            return &signatures[i];
+    return NULL;
+}
+
+static void fail_binding(const char *what, const char *function, const char *arg)
+{
+    char call[200];
+    snprintf(call, sizeof call, "binding kernel %s: %s `%s`", function, what, arg);
+    cl_fail(call, CL_INVALID_KERNEL_ARGS, __FILE__, __LINE__);
+}
+
+static void read_signature(cl_kernel k, const char *function)
+{
+    struct signature *sig = signature_of(NULL);
+    cl_uint count = 0;
+    if (!sig) {
+        fail_binding("more kernels than the signature table holds", function, "");
+        return;
+    }
+    CL_CHECK(clGetKernelInfo(k, CL_KERNEL_NUM_ARGS, sizeof count, &count, NULL));
+    if (count > MAX_KERNEL_ARGS) {
+        fail_binding("more arguments than MAX_KERNEL_ARGS, the first of them", function, "");
+        return;
+    }
+    sig->kernel = k;
+    snprintf(sig->function, sizeof sig->function, "%s", function);
+    sig->count = (int)count;
+    for (cl_uint a = 0; a < count; ++a)
+        CL_CHECK(clGetKernelArgInfo(k, a, CL_KERNEL_ARG_NAME, MAX_ARG_NAME, sig->name[a], NULL));
+}
+
+/* The value of a kernel argument: the one given by that name, else the
+ * particle field the registry names so (field_table[].arg). */
+static int find_value(const struct solver *s, const char *name, const struct arg *args, int count,
+                      struct arg *out)
+{
+    for (int v = 0; v < count; ++v)
+        if (strcmp(args[v].name, name) == 0) {
+            *out = args[v];
+            return 1;
+        }
+    for (int f = 0; f < FIELD_COUNT; ++f)
+        if (strcmp(field_table[f].arg, name) == 0) {
+            *out = FIELD(s, f);
+            return 1;
+        }
+    return 0;
+}
+
+void set_args(const struct solver *s, cl_kernel k, const struct arg *args, int count)
+{
+    const struct signature *sig = signature_of(k);
+    if (cl_failed() || !sig)
+        return;
+    for (int a = 0; a < sig->count; ++a) {
+        struct arg value;
+        if (!find_value(s, sig->name[a], args, count, &value)) {
+            fail_binding("no field or value for argument", sig->function, sig->name[a]);
+            return;
+        }
+        CL_CHECK(clSetKernelArg(k, (cl_uint)a, value.size, value.value));
+        if (value.is_buffer)
+            profile_note_buffer(*(const cl_mem *)value.value);
+    }
+    for (int v = 0; v < count; ++v) {
+        int taken = 0;
+        for (int a = 0; a < sig->count && !taken; ++a)
+            taken = strcmp(args[v].name, sig->name[a]) == 0;
+        if (!taken) {
+            fail_binding("takes no argument", sig->function, args[v].name);
+            return;
+        }
+    }
 }
 
 cl_kernel solver_make_kernel(struct solver *s, const char *name)
@@ -25,7 +118,9 @@ cl_kernel solver_make_kernel(struct solver *s, const char *name)
         char call[160];
         snprintf(call, sizeof call, "clCreateKernel(%s)", name);
         cl_fail(call, err != CL_SUCCESS ? err : CL_OUT_OF_RESOURCES, __FILE__, __LINE__);
+        return k;
     }
+    read_signature(k, name);
     return k;
 }
 
@@ -38,8 +133,12 @@ void solver_make_kernels(struct solver *s, const struct kernel_slot *slots, int 
 void solver_release_kernels(const struct kernel_slot *slots, int count)
 {
     for (int k = 0; k < count; ++k) {
-        if (*slots[k].kernel)
+        if (*slots[k].kernel) {
+            struct signature *sig = signature_of(*slots[k].kernel);
+            if (sig)
+                sig->kernel = NULL;
             clReleaseKernel(*slots[k].kernel);
+        }
         *slots[k].kernel = NULL;
     }
 }
@@ -78,8 +177,8 @@ void solver_bitonic_sort(struct solver *s)
     for (cl_uint k = 2; k / 2 < n; k <<= 1)
         for (cl_uint j = k >> 1; j > 0; j >>= 1) {
             const cl_int flip = j == k >> 1;
-            SET_ARGS(s->k.bitonic_step, MEM(s->sort_keys), RAW(sizeof j, &j), INT(flip),
-                     RAW(sizeof n, &n));
+            SET_ARGS(s, s->k.bitonic_step, MEM("keys", s->sort_keys), RAW("j", sizeof j, &j),
+                     INT("flip", flip), RAW("n", sizeof n, &n));
             solver_launch(s, s->k.bitonic_step, (size_t)s->n, 0);
         }
 }
@@ -90,8 +189,8 @@ void solver_gather_persistent(struct solver *s)
         if (!solver_field_used(s, (enum field)f))
             continue;
         const enum element_kind kind = field_table[f].kind;
-        SET_ARGS(s->k.gather[kind], MEM(s->sort_keys), MEM(s->field[f]), MEM(s->gather_spare),
-                 INT(s->n));
+        SET_ARGS(s, s->k.gather[kind], MEM("sort_keys", s->sort_keys), MEM("in", s->field[f]),
+                 MEM("out", s->gather_spare), INT("n", s->n));
         solver_launch(s, s->k.gather[kind], (size_t)s->n, 0);
         /* one spare for every field (not one per element kind, swapped in):
          * the copy back costs a read and a write per sort, the spares

@@ -1,7 +1,8 @@
 /* Kernel-argument helpers shared by the host files that enqueue kernels
- * (launch.c, step.c, ballistics.c, ghost.c): SET_ARGS(kernel, MEM(buf), INT(i), ...)
- * sets every argument and checks each call; real_value and real4_value
- * pass a scalar or a 4-vector in the device precision. */
+ * (launch.c, step.c, ballistics.c, ghost.c): SET_ARGS(kernel, FIELD(s, f),
+ * MEM("name", buf), INT("n", i), ...) binds every argument by name and
+ * checks each call; real_value and real4_value pass a scalar or a 4-vector
+ * in the device precision. */
 #ifndef SPH_LAUNCH_H
 #define SPH_LAUNCH_H
 
@@ -9,49 +10,43 @@
 #include "profile.h"
 #include "solver.h"
 
-/* Sets the kernel's arguments from a list of (size, pointer) pairs. */
+/* A kernel argument by the name the kernel declares it with: a particle
+ * field by its registry name (FIELD, field_table[].arg), any other buffer or
+ * value by the name given. */
 struct arg {
     size_t size;
     const void *value;
     int is_buffer; /* profiling counts the buffer's bytes */
+    const char *name;
 };
-#define MEM(m) ((struct arg){sizeof(cl_mem), &(m), 1})
-#define INT(i) ((struct arg){sizeof(cl_int), &(i), 0})
-#define RAW(size, p) ((struct arg){(size), (p), 0})
+#define FIELD(s, f) ((struct arg){sizeof(cl_mem), &(s)->field[f], 1, field_table[f].arg})
+#define MEM(name, m) ((struct arg){sizeof(cl_mem), &(m), 1, (name)})
+#define INT(name, i) ((struct arg){sizeof(cl_int), &(i), 0, (name)})
+#define RAW(name, size, p) ((struct arg){(size), (p), 0, (name)})
 
-/* SET_ARGS(kernel, a, b, ...) sets every argument, counting them itself. */
-#define SET_ARGS(k, ...)                                                                           \
-    set_args((k), (struct arg[]){__VA_ARGS__},                                                     \
+/* SET_ARGS(s, kernel, a, b, ...) binds every argument of the kernel by the
+ * name the kernel declares it with (host/launch.c, set_args): a value given
+ * by that name, else the particle field of that name in the registry
+ * (field_table[].arg), so the host lists only what is not a field. An
+ * argument with neither, or a value the kernel does not take, is a failure
+ * that names the kernel and the argument. */
+#define SET_ARGS(s, k, ...)                                                                        \
+    set_args((s), (k), (struct arg[]){__VA_ARGS__},                                                \
              (int)(sizeof((struct arg[]){__VA_ARGS__}) / sizeof(struct arg)))
-
-/* One buffer argument; a profiling run counts the buffer's bytes. */
-static inline void set_buffer_arg(cl_kernel k, cl_uint index, const cl_mem *buffer)
-{
-    CL_CHECK(clSetKernelArg(k, index, sizeof(cl_mem), buffer));
-    profile_note_buffer(*buffer);
-}
-
-static inline void set_args(cl_kernel k, const struct arg *args, int count)
-{
-    for (int a = 0; a < count; ++a) {
-        if (args[a].is_buffer)
-            set_buffer_arg(k, (cl_uint)a, (const cl_mem *)args[a].value);
-        else
-            CL_CHECK(clSetKernelArg(k, (cl_uint)a, args[a].size, args[a].value));
-    }
-}
+void set_args(const struct solver *s, cl_kernel k, const struct arg *args, int count);
 
 /* A real scalar argument in the device precision. */
 struct real_arg {
     cl_double d;
     cl_float f;
 };
-static inline struct arg real_value(const struct solver *s, struct real_arg *holder, double v)
+static inline struct arg real_value(const struct solver *s, struct real_arg *holder,
+                                    const char *name, double v)
 {
     holder->d = v;
     holder->f = (cl_float)v;
-    return s->double_precision ? RAW(sizeof(cl_double), &holder->d)
-                               : RAW(sizeof(cl_float), &holder->f);
+    return s->double_precision ? RAW(name, sizeof(cl_double), &holder->d)
+                               : RAW(name, sizeof(cl_float), &holder->f);
 }
 
 /* A real4 argument in the device precision. */
@@ -60,14 +55,14 @@ struct real4_arg {
     cl_float4 f;
 };
 static inline struct arg real4_value(const struct solver *s, struct real4_arg *holder,
-                                     const double v[3])
+                                     const char *name, const double v[3])
 {
     for (int a = 0; a < 4; ++a) {
         holder->d.s[a] = a < 3 ? v[a] : 0.0;
         holder->f.s[a] = (cl_float)holder->d.s[a];
     }
-    return s->double_precision ? RAW(sizeof(cl_double4), &holder->d)
-                               : RAW(sizeof(cl_float4), &holder->f);
+    return s->double_precision ? RAW(name, sizeof(cl_double4), &holder->d)
+                               : RAW(name, sizeof(cl_float4), &holder->f);
 }
 
 #endif

@@ -69,7 +69,8 @@ enum field {
 enum mirror_kind { MIRROR_NONE, MIRROR_COPY, MIRROR_REFLECT, MIRROR_POSITION, MIRROR_FLAGS };
 
 struct field_info {
-    const char *name;
+    const char *name; /* what the field is, in words (memory breakdown) */
+    const char *arg;  /* the kernels' name for it: SET_ARGS binds FIELD(s, f) by it */
     enum element_kind kind;
     enum mirror_kind mirror;
 };

@@ -12,6 +12,12 @@ int solver_create_buffers(struct solver *s, const struct sph_case *c, const stru
 void solver_upload_constants(struct solver *s, const struct sph_case *c);
 void solver_release_buffers(struct solver *s);
 
+/* Arguments that are not particle fields (SET_ARGS binds those from the
+ * registry): the run parameters and the grid. */
+#define RUN_PARAMS(s) MEM("run", (s)->run_params)
+#define GRID_RANGES(s)                                                                             \
+    MEM("sort_keys", (s)->sort_keys), MEM("cell_start", (s)->cell_start),                          \
+        MEM("cell_end", (s)->cell_end)
 #define MAX_CELLS (1 << 26) /* 256 MiB of cell ranges: beyond, particles have left */
 
 /* The step's kernels, one list for making and releasing them. */
@@ -146,7 +152,7 @@ void solver_release(struct solver *s)
 
 static void read_bounds(struct solver *s, double lo[3], double hi[3])
 {
-    SET_ARGS(s->k.bounds, MEM(s->field[FIELD_POS]), MEM(s->bounds_partials), INT(s->n));
+    SET_ARGS(s, s->k.bounds, MEM("partials", s->bounds_partials), INT("n", s->n));
     solver_launch(s, s->k.bounds, (size_t)s->reduce_groups * REDUCE_GROUP_SIZE, REDUCE_GROUP_SIZE);
     const size_t count = 6 * (size_t)s->reduce_groups;
     double values[6 * 64] = {0};
@@ -229,9 +235,10 @@ static void sort_keys(struct solver *s)
     struct real4_arg origin;
     struct real_arg inv_cell;
     cl_int4 dims = {{s->grid.dims[0], s->grid.dims[1], s->grid.dims[2], 0}};
-    SET_ARGS(s->k.cell_keys, MEM(s->field[FIELD_POS]), MEM(s->sort_keys), INT(s->n),
-             real4_value(s, &origin, s->grid.origin),
-             real_value(s, &inv_cell, 1.0 / s->grid.cell_size), RAW(sizeof dims, &dims));
+    SET_ARGS(s, s->k.cell_keys, MEM("sort_keys", s->sort_keys), INT("n", s->n),
+             real4_value(s, &origin, "origin", s->grid.origin),
+             real_value(s, &inv_cell, "inv_cell_size", 1.0 / s->grid.cell_size),
+             RAW("grid_dims", sizeof dims, &dims));
     solver_launch(s, s->k.cell_keys, (size_t)s->n, 0);
     solver_bitonic_sort(s);
 }
@@ -241,16 +248,15 @@ static void cell_ranges(struct solver *s)
     const cl_int minus_one = -1, cells = s->grid.cell_count;
     cl_mem targets[2] = {s->cell_start, s->cell_end};
     for (int t = 0; t < 2; ++t) {
-        SET_ARGS(s->k.fill_int, MEM(targets[t]), INT(minus_one), INT(cells));
+        SET_ARGS(s, s->k.fill_int, MEM("a", targets[t]), INT("value", minus_one), INT("n", cells));
         solver_launch(s, s->k.fill_int, (size_t)cells, 0);
     }
-    SET_ARGS(s->k.cell_ranges, MEM(s->sort_keys), MEM(s->cell_start), MEM(s->cell_end), INT(s->n));
+    SET_ARGS(s, s->k.cell_ranges, GRID_RANGES(s), INT("n", s->n));
     solver_launch(s, s->k.cell_ranges, (size_t)s->n, 0);
 }
 
 /* The grid arguments every neighbour pass takes (GRID_ARGS). */
-#define GRID_ARG_LIST(s, dims)                                                                     \
-    MEM((s)->sort_keys), MEM((s)->cell_start), MEM((s)->cell_end), RAW(sizeof(dims), &(dims))
+#define GRID_ARG_LIST(s, dims) GRID_RANGES(s), RAW("grid_dims", sizeof(dims), &(dims))
 
 int solver_sort(struct solver *s, char *error, size_t error_size)
 {
@@ -265,15 +271,16 @@ int solver_sort(struct solver *s, char *error, size_t error_size)
         const cl_int4 dims = {{s->grid.dims[0], s->grid.dims[1], s->grid.dims[2], 0}};
         struct real_arg a_skin;
         const cl_int cells = s->grid.cell_count;
-        SET_ARGS(s->k.cell_max_level, MEM(s->field[FIELD_FLAGS]), MEM(s->cell_start),
-                 MEM(s->cell_end), MEM(s->cell_level), INT(cells));
+        SET_ARGS(s, s->k.cell_max_level, MEM("cell_start", s->cell_start),
+                 MEM("cell_end", s->cell_end), MEM("cell_level", s->cell_level),
+                 INT("cells", cells));
         solver_launch(s, s->k.cell_max_level, (size_t)cells, 0);
         /* the gather spare (free after the gathers) holds the reaches */
-        SET_ARGS(s->k.neighbour_reach, MEM(s->field[FIELD_POS]), MEM(s->field[FIELD_FLAGS]),
-                 GRID_ARG_LIST(s, dims), MEM(s->cell_level), MEM(s->run_params),
-                 real_value(s, &a_skin, s->skin), MEM(s->gather_spare), INT(s->n));
+        SET_ARGS(s, s->k.neighbour_reach, GRID_ARG_LIST(s, dims), MEM("cell_level", s->cell_level),
+                 RUN_PARAMS(s), real_value(s, &a_skin, "skin", s->skin),
+                 MEM("reach", s->gather_spare), INT("n", s->n));
         solver_launch(s, s->k.neighbour_reach, (size_t)s->n, 0);
-        SET_ARGS(s->k.apply_reach, MEM(s->field[FIELD_FLAGS]), MEM(s->gather_spare), INT(s->n));
+        SET_ARGS(s, s->k.apply_reach, MEM("reach", s->gather_spare), INT("n", s->n));
         solver_launch(s, s->k.apply_reach, (size_t)s->n, 0);
     }
     return 0;
@@ -285,96 +292,61 @@ static size_t pass_items(const struct solver *s)
     return ((size_t)s->n + (size_t)s->lanes - 1) / (size_t)s->lanes;
 }
 
-/* The material state buffers, as kernels/material.cl's MATERIAL_STATE_ARGS. */
-#define MATERIAL_STATE_LIST(f)                                                                     \
-    MEM(f[FIELD_DENSITY_CHANGE]), MEM(f[FIELD_ENERGY]), MEM(f[FIELD_STRESS]),                      \
-        MEM(f[FIELD_PLASTIC_STRAIN]), MEM(f[FIELD_TEMPERATURE]), MEM(f[FIELD_ENERGY_RATE]),        \
-        MEM(f[FIELD_PRESSURE]), MEM(f[FIELD_SOUND_SPEED]), MEM(f[FIELD_ARTIFICIAL_STRESS])
-
 /* Pass 1 and, particle by particle at its end, the material update. */
 static void pass1(struct solver *s, double dt)
 {
-    cl_mem *f = s->field;
     const cl_int4 dims = {{s->grid.dims[0], s->grid.dims[1], s->grid.dims[2], 0}};
     struct real_arg a_dt;
-    SET_ARGS(s->k.pass1, MEM(f[FIELD_POS]), MEM(f[FIELD_VEL_HALF]), MEM(f[FIELD_RHO]),
-             MEM(f[FIELD_MASS]), MEM(f[FIELD_MATERIAL]), MEM(f[FIELD_FLAGS]),
-             GRID_ARG_LIST(s, dims), MEM(s->materials), MEM(s->run_params), MEM(f[FIELD_CSPH]),
-             MEM(f[FIELD_VELOCITY_GRADIENT]), MEM(f[FIELD_AV_ALPHA]), real_value(s, &a_dt, dt),
-             MATERIAL_STATE_LIST(f), INT(s->n));
+    SET_ARGS(s, s->k.pass1, GRID_ARG_LIST(s, dims), MEM("materials", s->materials), RUN_PARAMS(s),
+             real_value(s, &a_dt, "dt", dt), INT("n", s->n));
     solver_launch(s, s->k.pass1, pass_items(s), 0);
 }
 
 /* The total Lagrangian form's material update (its own kernel). */
 static void material(struct solver *s, double dt)
 {
-    cl_mem *f = s->field;
     struct real_arg a_dt;
-    SET_ARGS(s->k.material, MEM(f[FIELD_RHO]), MEM(f[FIELD_VELOCITY_GRADIENT]),
-             MEM(f[FIELD_DENSITY_RATE]), MEM(f[FIELD_MATERIAL]), MEM(f[FIELD_FLAGS]),
-             MEM(f[FIELD_POS]), MEM(f[FIELD_VEL_HALF]), MEM(s->materials), MEM(s->run_params),
-             real_value(s, &a_dt, dt), MATERIAL_STATE_LIST(f), INT(s->n));
+    SET_ARGS(s, s->k.material, MEM("materials", s->materials), RUN_PARAMS(s),
+             real_value(s, &a_dt, "dt", dt), INT("n", s->n));
     solver_launch(s, s->k.material, (size_t)s->n, 0);
 }
 
 static void pass2(struct solver *s)
 {
-    cl_mem *f = s->field;
     const cl_int4 dims = {{s->grid.dims[0], s->grid.dims[1], s->grid.dims[2], 0}};
-    SET_ARGS(s->k.pass2, MEM(f[FIELD_POS]), MEM(f[FIELD_POS0]), MEM(f[FIELD_VEL]),
-             MEM(f[FIELD_RHO]), MEM(f[FIELD_MASS]), MEM(f[FIELD_PRESSURE]), MEM(f[FIELD_STRESS]),
-             MEM(f[FIELD_ARTIFICIAL_STRESS]), MEM(f[FIELD_CSPH]), MEM(f[FIELD_SOUND_SPEED]),
-             MEM(f[FIELD_VELOCITY_GRADIENT]), MEM(f[FIELD_AV_ALPHA]), MEM(f[FIELD_FLAGS]),
-             GRID_ARG_LIST(s, dims), MEM(s->run_params), MEM(f[FIELD_ACCELERATION]),
-             MEM(f[FIELD_ENERGY_RATE]), MEM(f[FIELD_VISCOUS_HEATING]), MEM(f[FIELD_XSPH_VELOCITY]),
-             INT(s->n));
+    SET_ARGS(s, s->k.pass2, GRID_ARG_LIST(s, dims), RUN_PARAMS(s), INT("n", s->n));
     solver_launch(s, s->k.pass2, pass_items(s), 0);
 }
 
 /* Total Lagrangian passes (kernels/total_lagrangian.cl). */
 static void tl_correction(struct solver *s)
 {
-    cl_mem *f = s->field;
     const cl_int4 dims = {{s->grid.dims[0], s->grid.dims[1], s->grid.dims[2], 0}};
-    SET_ARGS(s->k.tl_correction, MEM(f[FIELD_POS0]), MEM(f[FIELD_MASS]), MEM(f[FIELD_MATERIAL]),
-             GRID_ARG_LIST(s, dims), MEM(s->materials), MEM(s->run_params), MEM(f[FIELD_CSPH]),
-             INT(s->n));
+    SET_ARGS(s, s->k.tl_correction, GRID_ARG_LIST(s, dims), MEM("materials", s->materials),
+             RUN_PARAMS(s), INT("n", s->n));
     solver_launch(s, s->k.tl_correction, (size_t)s->n, 0);
 }
 
 static void tl_deformation(struct solver *s, double dt)
 {
-    cl_mem *f = s->field;
     const cl_int4 dims = {{s->grid.dims[0], s->grid.dims[1], s->grid.dims[2], 0}};
     struct real_arg a_dt;
-    SET_ARGS(s->k.tl_deformation, MEM(f[FIELD_POS]), MEM(f[FIELD_POS0]), MEM(f[FIELD_VEL_HALF]),
-             MEM(f[FIELD_XSPH_VELOCITY]), MEM(f[FIELD_MASS]), MEM(f[FIELD_RHO]),
-             MEM(f[FIELD_MATERIAL]), MEM(f[FIELD_FLAGS]), GRID_ARG_LIST(s, dims), MEM(s->materials),
-             MEM(s->run_params), MEM(f[FIELD_CSPH]), real_value(s, &a_dt, dt),
-             MEM(f[FIELD_VELOCITY_GRADIENT]), MEM(f[FIELD_DENSITY_RATE]),
-             MEM(f[FIELD_DEFORMATION_GRADIENT]), INT(s->n));
+    SET_ARGS(s, s->k.tl_deformation, GRID_ARG_LIST(s, dims), MEM("materials", s->materials),
+             RUN_PARAMS(s), real_value(s, &a_dt, "dt", dt), INT("n", s->n));
     solver_launch(s, s->k.tl_deformation, (size_t)s->n, 0);
 }
 
 static void tl_first_piola(struct solver *s)
 {
-    cl_mem *f = s->field;
-    SET_ARGS(s->k.tl_first_piola, MEM(f[FIELD_RHO]), MEM(f[FIELD_PRESSURE]), MEM(f[FIELD_STRESS]),
-             MEM(f[FIELD_DEFORMATION_GRADIENT]), MEM(f[FIELD_CSPH]), MEM(f[FIELD_MATERIAL]),
-             MEM(s->materials), MEM(f[FIELD_FIRST_PIOLA]), INT(s->n));
+    SET_ARGS(s, s->k.tl_first_piola, MEM("materials", s->materials), INT("n", s->n));
     solver_launch(s, s->k.tl_first_piola, (size_t)s->n, 0);
 }
 
 static void tl_momentum(struct solver *s)
 {
-    cl_mem *f = s->field;
     const cl_int4 dims = {{s->grid.dims[0], s->grid.dims[1], s->grid.dims[2], 0}};
-    SET_ARGS(s->k.tl_momentum, MEM(f[FIELD_POS]), MEM(f[FIELD_POS0]), MEM(f[FIELD_VEL]),
-             MEM(f[FIELD_RHO]), MEM(f[FIELD_MASS]), MEM(f[FIELD_FIRST_PIOLA]),
-             MEM(f[FIELD_DEFORMATION_GRADIENT]), MEM(f[FIELD_SOUND_SPEED]), MEM(f[FIELD_MATERIAL]),
-             MEM(f[FIELD_FLAGS]), GRID_ARG_LIST(s, dims), MEM(s->materials), MEM(s->run_params),
-             MEM(f[FIELD_ACCELERATION]), MEM(f[FIELD_ENERGY_RATE]), MEM(f[FIELD_VISCOUS_HEATING]),
-             MEM(f[FIELD_HOURGLASS_POWER]), MEM(f[FIELD_XSPH_VELOCITY]), INT(s->n));
+    SET_ARGS(s, s->k.tl_momentum, GRID_ARG_LIST(s, dims), MEM("materials", s->materials),
+             RUN_PARAMS(s), INT("n", s->n));
     solver_launch(s, s->k.tl_momentum, (size_t)s->n, 0);
 }
 
@@ -402,7 +374,6 @@ void solver_prime(struct solver *s)
 
 void solver_step(struct solver *s, double dt, double dt_prev, const double load[3])
 {
-    cl_mem *f = s->field;
     struct real_arg a_dt, a_prev, a_dx;
     struct real4_arg a_load;
     solver_ghosts_refresh(s, NULL, 0); /* the state the previous step left */
@@ -412,11 +383,10 @@ void solver_step(struct solver *s, double dt, double dt_prev, const double load[
         pass2(s);
     if (s->projectile.enabled)
         solver_projectile_contact(s, dt, dt_prev); /* adds to the accelerations */
-    SET_ARGS(s->k.kick, MEM(f[FIELD_VEL]), MEM(f[FIELD_VEL_HALF]), MEM(f[FIELD_ACCELERATION]),
-             MEM(f[FIELD_MASS]), MEM(f[FIELD_FLAGS]), MEM(f[FIELD_POS]), MEM(f[FIELD_MATERIAL]),
-             MEM(s->materials), MEM(s->run_params), MEM(s->walls), INT(s->wall_count),
-             real_value(s, &a_dx, s->dx), real_value(s, &a_dt, dt), real_value(s, &a_prev, dt_prev),
-             real4_value(s, &a_load, load), MEM(f[FIELD_WALL_FORCE]), INT(s->n));
+    SET_ARGS(s, s->k.kick, MEM("materials", s->materials), RUN_PARAMS(s), MEM("walls", s->walls),
+             INT("wall_count", s->wall_count), real_value(s, &a_dx, "dx", s->dx),
+             real_value(s, &a_dt, "dt", dt), real_value(s, &a_prev, "dt_prev", dt_prev),
+             real4_value(s, &a_load, "load_force", load), INT("n", s->n));
     solver_launch(s, s->k.kick, (size_t)s->n, 0);
     if (s->projectile.enabled)
         solver_projectile_advance(s, dt, dt_prev);
@@ -428,11 +398,9 @@ void solver_step(struct solver *s, double dt, double dt_prev, const double load[
         plane[a] = s->ghosts.plane[a];
     }
     struct real4_arg a_side, a_plane;
-    SET_ARGS(s->k.drift, MEM(f[FIELD_POS]), MEM(f[FIELD_DISPLACEMENT]), MEM(f[FIELD_POS0]),
-             MEM(f[FIELD_VEL_HALF]), MEM(f[FIELD_XSPH_VELOCITY]), MEM(f[FIELD_FLAGS]),
-             MEM(f[FIELD_RHO]), MEM(f[FIELD_DENSITY_CHANGE]), MEM(f[FIELD_PLASTIC_STRAIN]),
-             MEM(f[FIELD_MATERIAL]), MEM(s->materials), real_value(s, &a_dt, dt),
-             real4_value(s, &a_plane, plane), real4_value(s, &a_side, side), INT(s->n));
+    SET_ARGS(s, s->k.drift, MEM("materials", s->materials), real_value(s, &a_dt, "dt", dt),
+             real4_value(s, &a_plane, "plane", plane), real4_value(s, &a_side, "side", side),
+             INT("n", s->n));
     solver_launch(s, s->k.drift, (size_t)s->n, 0);
 }
 
@@ -491,14 +459,10 @@ static void read_partials(struct solver *s, size_t count, double *values)
 
 void solver_reduce(struct solver *s, const double load[3], struct reduction *out)
 {
-    cl_mem *f = s->field;
     struct real4_arg a_load;
-    SET_ARGS(s->k.reduce, MEM(f[FIELD_POS]), MEM(f[FIELD_DISPLACEMENT]), MEM(f[FIELD_VEL_HALF]),
-             MEM(f[FIELD_XSPH_VELOCITY]), MEM(f[FIELD_MASS]), MEM(f[FIELD_ENERGY]),
-             MEM(f[FIELD_RHO]), MEM(f[FIELD_SOUND_SPEED]), MEM(f[FIELD_FLAGS]), MEM(f[FIELD_ID]),
-             MEM(f[FIELD_WALL_FORCE]), INT(s->wall_count), MEM(f[FIELD_VISCOUS_HEATING]),
-             MEM(f[FIELD_HOURGLASS_POWER]), MEM(s->run_params), real4_value(s, &a_load, load),
-             MEM(s->partials), INT(s->n));
+    SET_ARGS(s, s->k.reduce, INT("wall_count", s->wall_count), RUN_PARAMS(s),
+             real4_value(s, &a_load, "load_force", load), MEM("partials", s->partials),
+             INT("n", s->n));
     solver_launch(s, s->k.reduce, (size_t)s->reduce_groups * REDUCE_GROUP_SIZE, REDUCE_GROUP_SIZE);
     double values[64 * SPH_RED_SLOTS] = {0};
     read_partials(s, (size_t)s->reduce_groups * SPH_RED_SLOTS, values);
@@ -509,9 +473,8 @@ void solver_health(struct solver *s, struct health_reading *out)
 {
     const cl_int4 dims = {{s->grid.dims[0], s->grid.dims[1], s->grid.dims[2], 0}};
     struct real_arg a_dx;
-    SET_ARGS(s->k.health, MEM(s->field[FIELD_POS]), MEM(s->field[FIELD_PRESSURE]),
-             MEM(s->field[FIELD_STRESS]), MEM(s->field[FIELD_FLAGS]), GRID_ARG_LIST(s, dims),
-             MEM(s->run_params), real_value(s, &a_dx, s->dx), MEM(s->partials), INT(s->n));
+    SET_ARGS(s, s->k.health, GRID_ARG_LIST(s, dims), RUN_PARAMS(s),
+             real_value(s, &a_dx, "dx", s->dx), MEM("partials", s->partials), INT("n", s->n));
     solver_launch(s, s->k.health, (size_t)s->reduce_groups * REDUCE_GROUP_SIZE, REDUCE_GROUP_SIZE);
     double v[64 * SPH_HEALTH_SLOTS] = {0};
     read_partials(s, (size_t)s->reduce_groups * SPH_HEALTH_SLOTS, v);
@@ -536,9 +499,8 @@ void solver_health(struct solver *s, struct health_reading *out)
 void solver_neighbour_counts(struct solver *s, int *count_by_id)
 {
     const cl_int4 dims = {{s->grid.dims[0], s->grid.dims[1], s->grid.dims[2], 0}};
-    SET_ARGS(s->k.neighbour_count, MEM(s->field[FIELD_POS]), MEM(s->field[FIELD_POS0]),
-             MEM(s->field[FIELD_FLAGS]), GRID_ARG_LIST(s, dims), MEM(s->run_params),
-             MEM(s->gather_spare), INT(s->n));
+    SET_ARGS(s, s->k.neighbour_count, GRID_ARG_LIST(s, dims), RUN_PARAMS(s),
+             MEM("neighbour_count", s->gather_spare), INT("n", s->n));
     solver_launch(s, s->k.neighbour_count, (size_t)s->n, 0);
     int *count = CHECKED_CALLOC((size_t)s->n, sizeof(int), "neighbour counts");
     int *id = CHECKED_CALLOC((size_t)s->n, sizeof(int), "neighbour count ids");

@@ -98,7 +98,7 @@ pass1_finish(int i, real grad_v[3][3], real moment[3][3], __global const real *r
  * (SPH_AV_SWITCH) and the material state. One work-item per lane block
  * (kernels/lanes.cl). */
 __kernel void pass1_velocity_gradient(
-    __global const vec *restrict pos, __global const vec *restrict vel,
+    __global const vec *restrict pos, __global const vec *restrict vel_half,
     __global const real *restrict rho, __global const real *restrict mass,
     __global const int *restrict material, __global const int *restrict flags, GRID_ARGS,
     __constant const struct sph_material *materials, __constant const struct sph_run_params *run,
@@ -111,7 +111,7 @@ __kernel void pass1_velocity_gradient(
     LANE_PASS_CONSTANTS;
     realv xi[3], vi[3];
     lane_positions(pos, &b, n, xi);
-    gather_vec(vel, &b, n, vi);
+    gather_vec(vel_half, &b, n, vi);
     realv grad_v[3][3], moment[3][3];
     tensor_zero_v(grad_v);
     tensor_zero_v(moment);
@@ -127,7 +127,7 @@ __kernel void pass1_velocity_gradient(
         const real volume = plane_mass(mass[j], pos[j], run) / rho[j];
         /* grad_i W_ij = dW/dr x_ij / r; zero for lanes out of reach */
         const realv dwdr_r = SPH_SELECT((realv)0, kernel_dwdr_over_r_q(sqrt(r2) * inv_h, h), near);
-        const vec vj = vel[j];
+        const vec vj = vel_half[j];
         realv vji[3], grad[3];
 #pragma unroll
         for (int a = 0; a < 3; ++a) {
@@ -147,6 +147,6 @@ __kernel void pass1_velocity_gradient(
         tensor_lane(grad_v, l, gv);
         tensor_lane(moment, l, m);
         pass1_finish(b.first + l, gv, m, rho, material, flags, materials, run, csph,
-                     velocity_gradient, av_alpha, dt, pos, vel, MATERIAL_STATE);
+                     velocity_gradient, av_alpha, dt, pos, vel_half, MATERIAL_STATE);
     }
 }

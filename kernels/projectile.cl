@@ -97,8 +97,8 @@ projectile_contact(__global const vec *restrict pos, __global const vec *restric
  * reads partials; updates state. */
 __kernel void projectile_advance(__global real *restrict state,
                                  __global const real *restrict partials, const int groups,
-                                 const real4 mask, const real scale, const real mass, const real dt,
-                                 const real dt_prev)
+                                 const real4 mask, const real scale, const real sphere_mass,
+                                 const real dt, const real dt_prev)
 {
     if (get_global_id(0) != 0)
         return;
@@ -111,7 +111,7 @@ __kernel void projectile_advance(__global real *restrict state,
     const real m[3] = {mask.x, mask.y, mask.z};
     for (int a = 0; a < 3; ++a) {
         const real force = -scale * m[a] * sum[SPH_CONTACT_FX + a];
-        const real v = state[SPH_PROJ_V + a] + (real)0.5 * (dt_prev + dt) * force / mass;
+        const real v = state[SPH_PROJ_V + a] + (real)0.5 * (dt_prev + dt) * force / sphere_mass;
         state[SPH_PROJ_F + a] = force;
         state[SPH_PROJ_V + a] = v;
         state[SPH_PROJ_X + a] += dt * v;

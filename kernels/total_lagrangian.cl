@@ -63,7 +63,7 @@ __kernel void tl_correction(__global const vec *restrict pos0, __global const re
                             __global const int *restrict material, GRID_ARGS,
                             __constant const struct sph_material *materials,
                             __constant const struct sph_run_params *run,
-                            __global symt *restrict correction, const int n)
+                            __global symt *restrict csph, const int n)
 {
     const int i = get_global_id(0);
     if (i >= n)
@@ -88,7 +88,7 @@ __kernel void tl_correction(__global const vec *restrict pos0, __global const re
     END_FOR_EACH_NEIGHBOUR
     real c[3][3];
     matrix_invert_or_identity(moment, c);
-    correction[i] = symt_store(c); /* symmetric: grad W_ij is along X_ij */
+    csph[i] = symt_store(c); /* symmetric: grad W_ij is along X_ij */
 }
 
 /* F^n from the positions x^n, and its rate from the motion of this step,
@@ -104,10 +104,10 @@ tl_deformation(__global const vec *restrict pos, __global const vec *restrict po
                __global const real *restrict mass, __global const real *restrict rho,
                __global const int *restrict material, __global const int *restrict flags, GRID_ARGS,
                __constant const struct sph_material *materials,
-               __constant const struct sph_run_params *run,
-               __global const symt *restrict correction, const real dt,
-               __global fullt *restrict velocity_gradient, __global real *restrict density_rate,
-               __global fullt *restrict deformation_gradient, const int n)
+               __constant const struct sph_run_params *run, __global const symt *restrict csph,
+               const real dt, __global fullt *restrict velocity_gradient,
+               __global real *restrict density_rate, __global fullt *restrict deformation_gradient,
+               const int n)
 {
     const int i = get_global_id(0);
     if (i >= n || (flags[i] & SPH_FLAG_GHOST))
@@ -133,7 +133,7 @@ tl_deformation(__global const vec *restrict pos, __global const vec *restrict po
     }
     END_FOR_EACH_NEIGHBOUR
     real c[3][3], f[3][3], f_rate[3][3], f_mid[3][3], f_mid_inv[3][3], l[3][3];
-    symt_load(correction[i], c);
+    symt_load(csph[i], c);
     matrix_product(sum_x, c, f);
     matrix_product(sum_w, c, f_rate);
 #pragma unroll
@@ -163,7 +163,7 @@ __kernel void tl_first_piola(__global const real *restrict rho,
                              __global const real *restrict pressure,
                              __global const symt *restrict deviatoric_stress,
                              __global const fullt *restrict deformation_gradient,
-                             __global const symt *restrict correction,
+                             __global const symt *restrict csph,
                              __global const int *restrict material,
                              __constant const struct sph_material *materials,
                              __global fullt *restrict first_piola, const int n)
@@ -175,7 +175,7 @@ __kernel void tl_first_piola(__global const real *restrict rho,
     total_stress(pressure[i], deviatoric_stress[i], sigma);
     fullt_load(deformation_gradient[i], f);
     matrix_invert_or_identity(f, f_inv);
-    symt_load(correction[i], c_t);
+    symt_load(csph[i], c_t);
 #pragma unroll
     for (int r = 0; r < 3; ++r)
 #pragma unroll
