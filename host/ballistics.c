@@ -14,17 +14,6 @@ static double dot3(const double a[3], const double b[3])
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
-static cl_mem create_real_buffer(struct solver *s, size_t count, char *error, size_t error_size)
-{
-    cl_int err = CL_SUCCESS;
-    cl_mem m = clCreateBuffer(s->dev->context, CL_MEM_READ_WRITE,
-                              s->element_size[ELEM_REAL] * count, NULL, &err);
-    if (err != CL_SUCCESS)
-        snprintf(error, error_size, "clCreateBuffer (projectile, %zu reals) failed: %d", count,
-                 (int)err);
-    return err == CL_SUCCESS ? m : NULL;
-}
-
 static void write_state(struct solver *s, const double *values)
 {
     float narrow[SPH_PROJ_SLOTS];
@@ -33,23 +22,6 @@ static void write_state(struct solver *s, const double *values)
     CL_CHECK(clEnqueueWriteBuffer(
         s->dev->queue, s->projectile.state, CL_TRUE, 0, s->element_size[ELEM_REAL] * SPH_PROJ_SLOTS,
         s->double_precision ? (const void *)values : (const void *)narrow, 0, NULL, NULL));
-}
-
-static void read_reals(struct solver *s, cl_mem m, size_t count, double *out)
-{
-    if (s->double_precision) {
-        CL_CHECK(clEnqueueReadBuffer(s->dev->queue, m, CL_TRUE, 0, count * sizeof(double), out, 0,
-                                     NULL, NULL));
-        return;
-    }
-    float *tmp = CHECKED_CALLOC(count, sizeof(float), "projectile read-back");
-    if (!tmp)
-        return;
-    CL_CHECK(clEnqueueReadBuffer(s->dev->queue, m, CL_TRUE, 0, count * sizeof(float), tmp, 0, NULL,
-                                 NULL));
-    for (size_t k = 0; k < count; ++k)
-        out[k] = tmp[k];
-    free(tmp);
 }
 
 /* Whole-model factors: a 2-D particle is per metre of thickness or (axi)
@@ -73,7 +45,7 @@ static void model_factors(struct solver *s, const struct sph_case *c, struct pro
 
 static double particle_spacing(const struct sph_case *c, const struct sph_scene *scene, int i)
 {
-    const int level = (scene->flags[i] >> SPH_LEVEL_SHIFT) & SPH_LEVEL_MASK;
+    const int level = SPH_LEVEL_OF(scene->flags[i]);
     return c->numerics.dx * (1 << level);
 }
 
@@ -158,14 +130,12 @@ int projectile_check_scene(const struct sph_case *c, const struct sph_scene *sce
 }
 
 /* The projectile's kernels, one list for making and releasing them. */
-#define PROJECTILE_KERNELS 3
-static int projectile_kernels(struct solver *s, struct kernel_slot slots[PROJECTILE_KERNELS])
+static void projectile_kernels(struct solver *s, int make)
 {
-    const struct kernel_slot list[] = {{&s->k.projectile_contact, "projectile_contact"},
-                                       {&s->k.projectile_advance, "projectile_advance"},
-                                       {&s->k.projectile_cavity, "projectile_cavity"}};
-    memcpy(slots, list, sizeof list);
-    return PROJECTILE_KERNELS;
+    const struct kernel_slot list[] = {{&s->k.projectile_contact, "projectile_contact", 0},
+                                       {&s->k.projectile_advance, "projectile_advance", 0},
+                                       {&s->k.projectile_cavity, "projectile_cavity", 0}};
+    solver_kernels(s, list, (int)(sizeof list / sizeof list[0]), make);
 }
 
 int solver_projectile_create(struct solver *s, const struct sph_case *c,
@@ -179,9 +149,7 @@ int solver_projectile_create(struct solver *s, const struct sph_case *c,
     p->enabled = 1;
     p->radius = 0.5 * cp->diameter;
     p->mass = cp->density * M_PI * pow(cp->diameter, 3) / 6.0;
-    const double speed =
-        sqrt(cp->velocity[0] * cp->velocity[0] + cp->velocity[1] * cp->velocity[1] +
-             cp->velocity[2] * cp->velocity[2]);
+    const double speed = sqrt(dot3(cp->velocity, cp->velocity));
     p->stiffness_speed = solver_max_sound_speed(c) + speed;
     impact_axis(cp, p->axis);
     for (int a = 0; a < 3; ++a)
@@ -190,21 +158,18 @@ int solver_projectile_create(struct solver *s, const struct sph_case *c,
     shot_line_faces(c, scene, p->origin, p->axis, &p->surface, &p->exit_face);
     p->probe_spacing = cp->cavity_probe_spacing;
     p->probe_count = cp->cavity_probe_count;
-    p->state = create_real_buffer(s, SPH_PROJ_SLOTS, error, error_size);
-    p->contact_partials =
-        p->state
-            ? create_real_buffer(s, (size_t)SPH_CONTACT_SLOTS * s->reduce_groups, error, error_size)
-            : NULL;
-    if (!p->contact_partials)
-        return 1;
+    const size_t r = s->element_size[ELEM_REAL];
+    p->state = solver_create_buffer(s, r * SPH_PROJ_SLOTS);
+    p->contact_partials = solver_create_buffer(s, r * SPH_CONTACT_SLOTS * (size_t)s->reduce_groups);
+    if (cl_failed())
+        return snprintf(error, error_size, "%s", cl_failure()) > 0;
     double state[SPH_PROJ_SLOTS] = {0};
     for (int a = 0; a < 3; ++a) {
         state[SPH_PROJ_X + a] = cp->centre[a];
         state[SPH_PROJ_V + a] = cp->velocity[a];
     }
     write_state(s, state);
-    struct kernel_slot slots[PROJECTILE_KERNELS];
-    solver_make_kernels(s, slots, projectile_kernels(s, slots));
+    projectile_kernels(s, 1);
     return 0;
 }
 
@@ -252,7 +217,7 @@ static void read_cavity(struct solver *s, struct projectile_reading *out)
     double *v = CHECKED_CALLOC(width * (size_t)s->reduce_groups, sizeof(double), "cavity partials");
     if (!v)
         return;
-    read_reals(s, s->partials, width * (size_t)s->reduce_groups, v);
+    solver_read_reals(s, s->partials, width * (size_t)s->reduce_groups, v);
     for (int k = 0; k < SPH_MAX_CAVITY_PROBES; ++k) {
         double empty = HUGE_VAL, damaged = 0;
         for (int g = 0; g < s->reduce_groups; ++g) {
@@ -270,7 +235,7 @@ void solver_projectile_read(struct solver *s, struct projectile_reading *out)
     struct projectile *p = &s->projectile;
     memset(out, 0, sizeof *out);
     double state[SPH_PROJ_SLOTS] = {0};
-    read_reals(s, p->state, SPH_PROJ_SLOTS, state);
+    solver_read_reals(s, p->state, SPH_PROJ_SLOTS, state);
     double along = 0, speed = 0;
     for (int a = 0; a < 3; ++a) {
         out->position[a] = state[SPH_PROJ_X + a];
@@ -298,7 +263,7 @@ void solver_projectile_read(struct solver *s, struct projectile_reading *out)
 void solver_projectile_motion(struct solver *s, double centre[3], double velocity[3])
 {
     double state[SPH_PROJ_SLOTS] = {0};
-    read_reals(s, s->projectile.state, SPH_PROJ_SLOTS, state);
+    solver_read_reals(s, s->projectile.state, SPH_PROJ_SLOTS, state);
     for (int a = 0; a < 3; ++a)
         centre[a] = state[SPH_PROJ_X + a], velocity[a] = state[SPH_PROJ_V + a];
 }
@@ -306,8 +271,7 @@ void solver_projectile_motion(struct solver *s, double centre[3], double velocit
 void solver_projectile_release(struct solver *s)
 {
     struct projectile *p = &s->projectile;
-    struct kernel_slot slots[PROJECTILE_KERNELS];
-    solver_release_kernels(slots, projectile_kernels(s, slots));
+    projectile_kernels(s, 0);
     if (p->state)
         clReleaseMemObject(p->state);
     if (p->contact_partials)

@@ -167,8 +167,9 @@ static int run_scene(struct sph_device *dev, const struct bench_scene *b,
         return 1;
     }
     solver_build_options(c, options, sizeof options);
-    failed = device_build(dev, device_source_dir(), options, error, error_size) ||
-             solver_create(&s, dev, c, &scene, error, error_size);
+    failed = device_build(dev, device_source_dir(), options, error, error_size);
+    if (!failed && (failed = solver_create(&s, dev, c, &scene, error, error_size)) != 0)
+        solver_release(&s); /* what it made before it failed */
     if (!failed) {
         r->name = b->name;
         r->dimension = c->dimension;

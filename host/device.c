@@ -92,6 +92,19 @@ void cl_fail(const char *call, cl_int code, const char *file, int line)
              (int)code, file, line);
 }
 
+void device_fail(const char *what, const char *file, int line)
+{
+    if (cl_status.failed)
+        return;
+    cl_status.failed = 1;
+    snprintf(cl_status.message, sizeof cl_status.message, "%.400s at %s:%d", what, file, line);
+}
+
+void cl_failure_clear(void)
+{
+    memset(&cl_status, 0, sizeof cl_status);
+}
+
 void host_alloc_failed(const char *what, size_t bytes, const char *file, int line)
 {
     if (cl_status.failed)
@@ -417,6 +430,27 @@ void device_make_parent_dirs(const char *path)
         }
 }
 
+/* Whether the program's kernels report their argument names: host/launch.c
+ * binds arguments by them, and the OpenCL specification promises them only
+ * for programs built from source, so a driver may drop them from a binary. */
+static int has_argument_names(cl_program program)
+{
+    char names[4096] = "", arg[64];
+    if (clGetProgramInfo(program, CL_PROGRAM_KERNEL_NAMES, sizeof names, names, NULL) != CL_SUCCESS)
+        return 0;
+    names[strcspn(names, ";")] = '\0';
+    cl_int err = CL_SUCCESS;
+    cl_kernel k = clCreateKernel(program, names, &err);
+    if (err != CL_SUCCESS)
+        return 0;
+    cl_uint count = 0;
+    int ok = clGetKernelInfo(k, CL_KERNEL_NUM_ARGS, sizeof count, &count, NULL) == CL_SUCCESS;
+    if (ok && count > 0)
+        ok = clGetKernelArgInfo(k, 0, CL_KERNEL_ARG_NAME, sizeof arg, arg, NULL) == CL_SUCCESS;
+    clReleaseKernel(k);
+    return ok;
+}
+
 static cl_program load_cached(struct sph_device *dev, const char *path, const char *options)
 {
     size_t size = 0;
@@ -433,9 +467,10 @@ static cl_program load_cached(struct sph_device *dev, const char *path, const ch
             clReleaseProgram(program);
         return NULL;
     }
-    if (clBuildProgram(program, 1, &dev->device, options, NULL, NULL) != CL_SUCCESS) {
+    if (clBuildProgram(program, 1, &dev->device, options, NULL, NULL) != CL_SUCCESS ||
+        !has_argument_names(program)) {
         clReleaseProgram(program);
-        return NULL; /* a stale or foreign binary: rebuild from source */
+        return NULL; /* a stale or foreign binary, or one without argument names: from source */
     }
     return program;
 }

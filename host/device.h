@@ -41,8 +41,13 @@ const char *cl_error_name(cl_int code);
  * SPH_FAIL_CL_CALL=N makes the N-th checked call report
  * CL_OUT_OF_RESOURCES (fault injection for the tests). */
 void cl_fail(const char *call, cl_int code, const char *file, int line);
+/* A device-side failure that is not one call's (a kernel argument nothing
+ * binds): recorded as "<what> at <file>:<line>", status device_error. */
+void device_fail(const char *what, const char *file, int line);
 int cl_failed(void);
 const char *cl_failure(void); /* the recorded message, "" before any failure */
+/* Forgets a recorded failure: for unit tests that provoke one on purpose. */
+void cl_failure_clear(void);
 /* A host allocation that failed is recorded the same way ("out of host
  * memory: <what> (<bytes> bytes) at <file>:<line>"), so that the run
  * unwinds as after a failed OpenCL call; the caller returns without using

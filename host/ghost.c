@@ -59,7 +59,7 @@ void solver_ghosts_setup(struct solver *s, const struct sph_case *c, const struc
     if (!g->scale) /* recorded: solver_create returns it */
         return;
     for (int p = 0; p < scene->count; ++p) {
-        const int level = (scene->flags[p] >> SPH_LEVEL_SHIFT) & SPH_LEVEL_MASK;
+        const int level = SPH_LEVEL_OF(scene->flags[p]);
         g->scale[p] = s->graded ? 1.5 * (1 << level) : 1.0;
     }
     int initial = 0, masks[7];
@@ -71,43 +71,27 @@ void solver_ghosts_setup(struct solver *s, const struct sph_case *c, const struc
 }
 
 /* The ghosts' kernels, one list for making and releasing them. */
-#define GHOST_KERNELS 8
-static int ghost_kernels(struct ghosts *g, struct kernel_slot slots[GHOST_KERNELS])
+static void ghost_kernels(struct solver *s, int make)
 {
+    struct ghosts *g = &s->ghosts;
     const struct kernel_slot list[] = {
-        {&g->index_kernel, "ghost_index_of_id"},
-        {&g->id_keys, "ghost_id_keys"},
-        {&g->init, "ghost_init"},
-        {&g->refresh[ELEM_REAL], "ghost_refresh_real"},
-        {&g->refresh[ELEM_INT], "ghost_refresh_int"},
-        {&g->refresh[ELEM_VEC], "ghost_refresh_vec"},
-        {&g->refresh[ELEM_SYMT], "ghost_refresh_symt"},
-        {&g->refresh[ELEM_FULLT], "ghost_refresh_fullt"},
+        {&g->index_kernel, "ghost_index_of_id", 0},
+        {&g->id_keys, "ghost_id_keys", 0},
+        {&g->init, "ghost_init", 0},
+        {g->refresh, "ghost_refresh", 1},
     };
-    _Static_assert(sizeof list / sizeof list[0] == GHOST_KERNELS, "GHOST_KERNELS");
-    memcpy(slots, list, sizeof list);
-    return GHOST_KERNELS;
+    solver_kernels(s, list, (int)(sizeof list / sizeof list[0]), make);
 }
 
-int solver_ghosts_create(struct solver *s, char *error, size_t error_size)
+void solver_ghosts_create(struct solver *s)
 {
     struct ghosts *g = &s->ghosts;
     if (g->plane_count == 0)
-        return 0;
-    cl_int err = CL_SUCCESS;
-    g->source_id = clCreateBuffer(s->dev->context, CL_MEM_READ_WRITE,
-                                  sizeof(cl_int) * (size_t)g->capacity, NULL, &err);
-    CL_CHECK_ERR("clCreateBuffer(ghost_source_id)", err);
-    g->mask = clCreateBuffer(s->dev->context, CL_MEM_READ_WRITE,
-                             sizeof(cl_int) * (size_t)g->capacity, NULL, &err);
-    CL_CHECK_ERR("clCreateBuffer(ghost_mask)", err);
-    g->index_of_id = clCreateBuffer(s->dev->context, CL_MEM_READ_WRITE,
-                                    sizeof(cl_int) * (size_t)s->capacity, NULL, &err);
-    CL_CHECK_ERR("clCreateBuffer(index_of_id)", err);
-    struct kernel_slot slots[GHOST_KERNELS];
-    solver_make_kernels(s, slots, ghost_kernels(g, slots));
-    (void)error, (void)error_size;
-    return 0;
+        return;
+    g->source_id = solver_create_buffer(s, sizeof(cl_int) * (size_t)g->capacity);
+    g->mask = solver_create_buffer(s, sizeof(cl_int) * (size_t)g->capacity);
+    g->index_of_id = solver_create_buffer(s, sizeof(cl_int) * (size_t)s->capacity);
+    ghost_kernels(s, 1);
 }
 
 void solver_ghosts_release(struct solver *s)
@@ -119,8 +103,7 @@ void solver_ghosts_release(struct solver *s)
     for (size_t k = 0; k < sizeof buffers / sizeof buffers[0]; ++k)
         if (*buffers[k])
             clReleaseMemObject(*buffers[k]);
-    struct kernel_slot slots[GHOST_KERNELS];
-    solver_release_kernels(slots, ghost_kernels(g, slots));
+    ghost_kernels(s, 0);
 }
 
 void solver_ghosts_reindex(struct solver *s)
@@ -178,7 +161,7 @@ void solver_ghosts_refresh(struct solver *s, const enum field *fields, int count
 static void compact(struct solver *s)
 {
     struct ghosts *g = &s->ghosts;
-    SET_ARGS(s, g->id_keys, MEM("sort_keys", s->sort_keys), INT("n", s->n));
+    SET_ARGS(s, g->id_keys, INT("n", s->n));
     solver_launch(s, g->id_keys, (size_t)s->n, 0);
     solver_bitonic_sort(s);
     solver_gather_persistent(s);

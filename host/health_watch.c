@@ -14,9 +14,9 @@ int health_watch_open(struct health_watch *h, struct solver *s)
 {
     h->min_pair_distance = HUGE_VAL;
     h->first_unhealthy_time = -1;
-    h->initial_neighbours = malloc(sizeof(int) * (size_t)s->n_real);
-    h->neighbours = malloc(sizeof(int) * (size_t)s->n_real);
-    h->damaged = calloc((size_t)s->n_real, 1);
+    h->initial_neighbours = CHECKED_CALLOC((size_t)s->n_real + 1, sizeof(int), "neighbour counts");
+    h->neighbours = CHECKED_CALLOC((size_t)s->n_real + 1, sizeof(int), "neighbour counts");
+    h->damaged = CHECKED_CALLOC((size_t)s->n_real + 1, 1, "damage marks");
     if (!h->initial_neighbours || !h->neighbours || !h->damaged)
         return 1;
     solver_neighbour_counts(s, h->initial_neighbours);
@@ -73,6 +73,8 @@ void health_watch_integrity(struct health_watch *h, struct solver *s, const stru
                             struct run_clock at, char *message, size_t size)
 {
     solver_neighbour_counts(s, h->neighbours);
+    if (cl_failed()) /* the counts were not read: the run is unwinding */
+        return;
     int lost = 0;
     for (int p = 0; p < s->n_real; ++p) /* failed material may separate */
         lost += 3 * h->neighbours[p] < 2 * h->initial_neighbours[p] && !h->damaged[p];

@@ -17,19 +17,22 @@ static size_t round_up(size_t n, size_t m)
 }
 
 /* The names a kernel declares its arguments with (the program is built
- * with -cl-kernel-arg-info), read once when the kernel is made. */
+ * with -cl-kernel-arg-info; host/device.c rebuilds a cached binary that lost
+ * them), read once when the kernel is made, with the registry's field of
+ * each name found then. */
 #define MAX_KERNEL_ARGS 40
 #define MAX_ARG_NAME 32
-#define MAX_SIGNATURES 96
+#define MAX_SIGNATURES 96 /* a solver makes 36 kernels */
 struct signature {
-    cl_kernel kernel;
+    cl_kernel kernel; /* NULL: a free slot */
     char function[64];
     int count;
     char name[MAX_KERNEL_ARGS][MAX_ARG_NAME];
+    int field[MAX_KERNEL_ARGS]; /* the registry's field of that name, or -1 */
 };
 static struct signature signatures[MAX_SIGNATURES];
 
-static struct signature *signature_of(cl_kernel k)
+static struct signature *signature_slot(cl_kernel k)
 {
     for (int i = 0; i < MAX_SIGNATURES; ++i)
         if (signatures[i].kernel == k)
@@ -39,60 +42,104 @@ static struct signature *signature_of(cl_kernel k)
 
 static void fail_binding(const char *what, const char *function, const char *arg)
 {
-    char call[200];
-    snprintf(call, sizeof call, "binding kernel %s: %s `%s`", function, what, arg);
-    cl_fail(call, CL_INVALID_KERNEL_ARGS, __FILE__, __LINE__);
+    char message[200];
+    snprintf(message, sizeof message, "binding the arguments of kernel %s: %s `%s`", function, what,
+             arg);
+    device_fail(message, __FILE__, __LINE__);
 }
 
 static void read_signature(cl_kernel k, const char *function)
 {
-    struct signature *sig = signature_of(NULL);
+    struct signature *sig = signature_slot(NULL);
     cl_uint count = 0;
     if (!sig) {
-        fail_binding("more kernels than the signature table holds", function, "");
+        fail_binding("more kernels than MAX_SIGNATURES", function, "");
         return;
     }
     CL_CHECK(clGetKernelInfo(k, CL_KERNEL_NUM_ARGS, sizeof count, &count, NULL));
     if (count > MAX_KERNEL_ARGS) {
-        fail_binding("more arguments than MAX_KERNEL_ARGS, the first of them", function, "");
+        fail_binding("more arguments than MAX_KERNEL_ARGS", function, "");
         return;
     }
+    for (cl_uint a = 0; a < count; ++a) {
+        CL_CHECK(clGetKernelArgInfo(k, a, CL_KERNEL_ARG_NAME, MAX_ARG_NAME, sig->name[a], NULL));
+        sig->field[a] = -1;
+        for (int f = 0; f < FIELD_COUNT; ++f)
+            if (strcmp(field_table[f].arg, sig->name[a]) == 0)
+                sig->field[a] = f;
+    }
+    if (cl_failed())
+        return;
     sig->kernel = k;
     snprintf(sig->function, sizeof sig->function, "%s", function);
     sig->count = (int)count;
-    for (cl_uint a = 0; a < count; ++a)
-        CL_CHECK(clGetKernelArgInfo(k, a, CL_KERNEL_ARG_NAME, MAX_ARG_NAME, sig->name[a], NULL));
 }
 
-/* The value of a kernel argument: the one given by that name, else the
- * particle field the registry names so (field_table[].arg). */
-static int find_value(const struct solver *s, const char *name, const struct arg *args, int count,
-                      struct arg *out)
+/* Arguments that belong to the solver rather than to one launch (the run
+ * parameters, materials, walls and the neighbour grid), bound by name like
+ * the fields. */
+static int solver_value(const struct solver *s, const char *name, struct arg *out)
 {
-    for (int v = 0; v < count; ++v)
-        if (strcmp(args[v].name, name) == 0) {
-            *out = args[v];
-            return 1;
-        }
-    for (int f = 0; f < FIELD_COUNT; ++f)
-        if (strcmp(field_table[f].arg, name) == 0) {
-            *out = FIELD(s, f);
+    const struct arg values[] = {
+        MEM("run", s->run_params),
+        MEM("materials", s->materials),
+        MEM("walls", s->walls),
+        INT("wall_count", s->wall_count),
+        MEM("sort_keys", s->sort_keys),
+        MEM("cell_start", s->cell_start),
+        MEM("cell_end", s->cell_end),
+        MEM("cell_level", s->cell_level),
+        RAW("grid_dims", sizeof s->grid.dims4, &s->grid.dims4),
+    };
+    for (size_t v = 0; v < sizeof values / sizeof values[0]; ++v)
+        if (strcmp(values[v].name, name) == 0) {
+            *out = values[v];
             return 1;
         }
     return 0;
 }
 
+/* The value of argument a: the one given by its name, else the particle
+ * field the registry names so (field_table[].arg), else the solver's. A
+ * given value may not stand in for a field or a solver value (the same
+ * name meaning two buffers is what binding by name rules out). */
+static int find_value(const struct solver *s, const struct signature *sig, int a,
+                      const struct arg *args, int count, struct arg *out)
+{
+    for (int v = 0; v < count; ++v)
+        if (strcmp(args[v].name, sig->name[a]) == 0) {
+            struct arg other;
+            if (sig->field[a] >= 0 || solver_value(s, sig->name[a], &other)) {
+                fail_binding("given a value for the field or solver argument", sig->function,
+                             sig->name[a]);
+                return 0;
+            }
+            *out = args[v];
+            return 1;
+        }
+    if (sig->field[a] >= 0) {
+        *out = (struct arg){sizeof(cl_mem), &s->field[sig->field[a]], 1, sig->name[a]};
+        return 1;
+    }
+    if (solver_value(s, sig->name[a], out))
+        return 1;
+    fail_binding("no field, solver value or given value for argument", sig->function, sig->name[a]);
+    return 0;
+}
+
 void set_args(const struct solver *s, cl_kernel k, const struct arg *args, int count)
 {
-    const struct signature *sig = signature_of(k);
-    if (cl_failed() || !sig)
+    if (cl_failed())
         return;
+    const struct signature *sig = k ? signature_slot(k) : NULL;
+    if (!sig) {
+        fail_binding("no signature (a kernel not made by solver_kernels)", "?", "");
+        return;
+    }
     for (int a = 0; a < sig->count; ++a) {
         struct arg value;
-        if (!find_value(s, sig->name[a], args, count, &value)) {
-            fail_binding("no field or value for argument", sig->function, sig->name[a]);
+        if (!find_value(s, sig, a, args, count, &value))
             return;
-        }
         CL_CHECK(clSetKernelArg(k, (cl_uint)a, value.size, value.value));
         if (value.is_buffer)
             profile_note_buffer(*(const cl_mem *)value.value);
@@ -108,7 +155,13 @@ void set_args(const struct solver *s, cl_kernel k, const struct arg *args, int c
     }
 }
 
-cl_kernel solver_make_kernel(struct solver *s, const char *name)
+static const char *const element_suffix[ELEM_COUNT] = {[ELEM_REAL] = "real",
+                                                       [ELEM_INT] = "int",
+                                                       [ELEM_VEC] = "vec",
+                                                       [ELEM_SYMT] = "symt",
+                                                       [ELEM_FULLT] = "fullt"};
+
+static cl_kernel make_kernel(struct solver *s, const char *name)
 {
     if (cl_failed())
         return NULL;
@@ -124,23 +177,41 @@ cl_kernel solver_make_kernel(struct solver *s, const char *name)
     return k;
 }
 
-void solver_make_kernels(struct solver *s, const struct kernel_slot *slots, int count)
+static void release_kernel(cl_kernel *k)
 {
-    for (int k = 0; k < count; ++k)
-        *slots[k].kernel = slots[k].name ? solver_make_kernel(s, slots[k].name) : NULL;
+    if (*k) {
+        struct signature *sig = signature_slot(*k);
+        if (sig)
+            memset(sig, 0, sizeof *sig);
+        clReleaseKernel(*k);
+    }
+    *k = NULL;
 }
 
-void solver_release_kernels(const struct kernel_slot *slots, int count)
+static void make_kernels(struct solver *s, const struct kernel_slot *slots, int count)
 {
     for (int k = 0; k < count; ++k) {
-        if (*slots[k].kernel) {
-            struct signature *sig = signature_of(*slots[k].kernel);
-            if (sig)
-                sig->kernel = NULL;
-            clReleaseKernel(*slots[k].kernel);
+        if (!slots[k].per_element) {
+            *slots[k].kernel = slots[k].name ? make_kernel(s, slots[k].name) : NULL;
+            continue;
         }
-        *slots[k].kernel = NULL;
+        for (int e = 0; e < ELEM_COUNT; ++e) {
+            char name[96];
+            snprintf(name, sizeof name, "%s_%s", slots[k].name, element_suffix[e]);
+            slots[k].kernel[e] = make_kernel(s, name);
+        }
     }
+}
+
+void solver_kernels(struct solver *s, const struct kernel_slot *slots, int count, int make)
+{
+    if (make) {
+        make_kernels(s, slots, count);
+        return;
+    }
+    for (int k = 0; k < count; ++k)
+        for (int e = 0; e < (slots[k].per_element ? ELEM_COUNT : 1); ++e)
+            release_kernel(&slots[k].kernel[e]);
 }
 
 void solver_launch(struct solver *s, cl_kernel k, size_t global, size_t local)
@@ -189,8 +260,8 @@ void solver_gather_persistent(struct solver *s)
         if (!solver_field_used(s, (enum field)f))
             continue;
         const enum element_kind kind = field_table[f].kind;
-        SET_ARGS(s, s->k.gather[kind], MEM("sort_keys", s->sort_keys), MEM("in", s->field[f]),
-                 MEM("out", s->gather_spare), INT("n", s->n));
+        SET_ARGS(s, s->k.gather[kind], MEM("in", s->field[f]), MEM("out", s->gather_spare),
+                 INT("n", s->n));
         solver_launch(s, s->k.gather[kind], (size_t)s->n, 0);
         /* one spare for every field (not one per element kind, swapped in):
          * the copy back costs a read and a write per sort, the spares

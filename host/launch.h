@@ -1,5 +1,5 @@
 /* Kernel-argument helpers shared by the host files that enqueue kernels
- * (launch.c, step.c, ballistics.c, ghost.c): SET_ARGS(kernel, FIELD(s, f),
+ * (launch.c, step.c, ballistics.c, ghost.c): SET_ARGS(s, kernel,
  * MEM("name", buf), INT("n", i), ...) binds every argument by name and
  * checks each call; real_value and real4_value pass a scalar or a 4-vector
  * in the device precision. */
@@ -10,16 +10,13 @@
 #include "profile.h"
 #include "solver.h"
 
-/* A kernel argument by the name the kernel declares it with: a particle
- * field by its registry name (FIELD, field_table[].arg), any other buffer or
- * value by the name given. */
+/* A value for the kernel argument of that name. */
 struct arg {
     size_t size;
     const void *value;
     int is_buffer; /* profiling counts the buffer's bytes */
     const char *name;
 };
-#define FIELD(s, f) ((struct arg){sizeof(cl_mem), &(s)->field[f], 1, field_table[f].arg})
 #define MEM(name, m) ((struct arg){sizeof(cl_mem), &(m), 1, (name)})
 #define INT(name, i) ((struct arg){sizeof(cl_int), &(i), 0, (name)})
 #define RAW(name, size, p) ((struct arg){(size), (p), 0, (name)})
@@ -27,9 +24,11 @@ struct arg {
 /* SET_ARGS(s, kernel, a, b, ...) binds every argument of the kernel by the
  * name the kernel declares it with (host/launch.c, set_args): a value given
  * by that name, else the particle field of that name in the registry
- * (field_table[].arg), so the host lists only what is not a field. An
- * argument with neither, or a value the kernel does not take, is a failure
- * that names the kernel and the argument. */
+ * (field_table[].arg), else the solver's own (run, materials, walls,
+ * wall_count, the grid), so a call lists only what is particular to it. An
+ * argument with none of these, a given value the kernel does not take, or
+ * one given for a field or solver argument, is a failure that names the
+ * kernel and the argument. */
 #define SET_ARGS(s, k, ...)                                                                        \
     set_args((s), (k), (struct arg[]){__VA_ARGS__},                                                \
              (int)(sizeof((struct arg[]){__VA_ARGS__}) / sizeof(struct arg)))

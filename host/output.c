@@ -39,7 +39,6 @@ int output_open(struct output *o, const char *folder, const struct sph_case *c, 
     o->projectile_radius = c->projectile.enabled ? 0.5 * c->projectile.diameter : 0;
     o->wall_count = c->wall_count;
     for (int w = 0; w < c->wall_count; ++w) {
-        snprintf(o->wall_name[w], sizeof o->wall_name[w], "%s", c->walls[w].name);
         memcpy(o->wall_point[w], c->walls[w].point, sizeof o->wall_point[w]);
         memcpy(o->wall_normal[w], c->walls[w].normal, sizeof o->wall_normal[w]);
     }
@@ -71,7 +70,7 @@ int output_open(struct output *o, const char *folder, const struct sph_case *c, 
             "clumped_fraction,swegle_fraction,neighbours_min,neighbours_mean,neighbours_max,"
             "energy_error,artificial_viscosity_work_J,hourglass_work_J\n",
             o->probe_name);
-    o->snapshot_times = malloc(sizeof(double) * SPH_MAX_SNAPSHOTS);
+    o->snapshot_times = CHECKED_CALLOC(SPH_MAX_SNAPSHOTS, sizeof(double), "snapshot index");
     if (!o->snapshot_times)
         return snprintf(error, error_size, "out of host memory for the snapshot index") > 0;
     return 0;

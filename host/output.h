@@ -22,7 +22,6 @@ struct output {
     int cavity_probes;
     double projectile_radius; /* m; 0 without a projectile */
     int wall_count;           /* walls drawn in the XDMF (a square or segment each) */
-    char wall_name[SPH_MAX_WALLS][SPH_NAME_MAX];
     double wall_point[SPH_MAX_WALLS][3], wall_normal[SPH_MAX_WALLS][3];
     double wall_centre[SPH_MAX_WALLS][3], wall_half_width; /* placed at the first snapshot */
 };

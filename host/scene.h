@@ -29,10 +29,10 @@ struct sph_particle_sink {
     void *context;
 };
 
-/* Fills a graded body (bodies[].grading) level by level; returns the
- * particles emitted, or -1 when emit stopped it. */
 /* The level (0 finest) a graded body's lattice has at point x, m. */
 int grading_level_at(const struct sph_case *c, const struct case_body *b, const double x[3]);
+/* Fills a graded body (bodies[].grading) level by level; returns the
+ * particles emitted, or -1 when emit stopped it. */
 int grading_fill(const struct sph_case *c, const struct case_body *b,
                  struct sph_particle_sink *out);
 

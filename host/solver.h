@@ -1,6 +1,8 @@
 /* The solver on the device: particle buffers (state.c) and the fixed list of
- * kernel launches of a step (step.c). The host never loops over particles
- * inside the time loop; it enqueues kernels and reads back small reductions. */
+ * kernel launches of a step (step.c). Inside the time loop the host
+ * enqueues kernels and reads back small reductions; its one loop over
+ * particles is the symmetry planes' ghost list, rebuilt at re-sorts only
+ * (host/ghost.c, solver_ghosts_rebuild). */
 #ifndef SPH_SOLVER_H
 #define SPH_SOLVER_H
 
@@ -70,7 +72,7 @@ enum mirror_kind { MIRROR_NONE, MIRROR_COPY, MIRROR_REFLECT, MIRROR_POSITION, MI
 
 struct field_info {
     const char *name; /* what the field is, in words (memory breakdown) */
-    const char *arg;  /* the kernels' name for it: SET_ARGS binds FIELD(s, f) by it */
+    const char *arg;  /* the kernels' name for it: SET_ARGS binds the field by it */
     enum element_kind kind;
     enum mirror_kind mirror;
 };
@@ -80,6 +82,7 @@ struct grid {
     double origin[3];
     double cell_size; /* support * (1 + skin), m */
     int dims[3];
+    cl_int4 dims4; /* dims as the kernels take them (grid_dims) */
     int cell_count;
     int cell_capacity;
 };
@@ -211,6 +214,11 @@ int solver_field_mirrored(const struct solver *s, enum field f);
 /* bytes per slot of the gather spare: the largest persistent field's element */
 size_t solver_spare_element(const struct solver *s);
 
+/* A device buffer of `bytes` (a failure is recorded, host/device.h), and
+ * `count` device reals read back as doubles. */
+cl_mem solver_create_buffer(struct solver *s, size_t bytes);
+void solver_read_reals(struct solver *s, cl_mem m, size_t count, double *out);
+
 /* Bytes of device memory per particle, over all per-particle buffers. */
 size_t solver_bytes_per_particle(const struct solver *s);
 /* The same, buffer by buffer (fields by name, the gather spare, the sort
@@ -260,7 +268,7 @@ int solver_read_fields(struct solver *s, struct host_fields *out);
  * solver_ghosts_reindex maps ids to slots after it; solver_ghosts_refresh
  * copies the fields listed (or all mirrored fields when fields is NULL). */
 void solver_ghosts_setup(struct solver *s, const struct sph_case *c, const struct sph_scene *scene);
-int solver_ghosts_create(struct solver *s, char *error, size_t error_size);
+void solver_ghosts_create(struct solver *s);
 int solver_ghosts_rebuild(struct solver *s, char *error, size_t error_size);
 void solver_ghosts_reindex(struct solver *s);
 void solver_ghosts_refresh(struct solver *s, const enum field *fields, int count);
@@ -280,18 +288,20 @@ void solver_projectile_release(struct solver *s);
 int projectile_check_scene(const struct sph_case *c, const struct sph_scene *scene, char *error,
                            size_t error_size);
 
-/* Shared launch helpers (host/step.c). */
+/* Shared launch helpers (host/launch.c). */
 void solver_launch(struct solver *s, cl_kernel k, size_t global, size_t local);
-cl_kernel solver_make_kernel(struct solver *s, const char *name);
 /* The kernels a module owns, listed once for making and releasing them:
  * where the handle lives and the kernel's name (NULL: not used in this
- * configuration; the handle stays NULL). */
+ * configuration; the handle stays NULL). per_element: a family of one
+ * kernel per element kind, name_real .. name_fullt, into kernel[0 ..
+ * ELEM_COUNT - 1]. */
 struct kernel_slot {
     cl_kernel *kernel;
     const char *name;
+    int per_element;
 };
-void solver_make_kernels(struct solver *s, const struct kernel_slot *slots, int count);
-void solver_release_kernels(const struct kernel_slot *slots, int count);
+/* Makes (make != 0) or releases the kernels of a slot list. */
+void solver_kernels(struct solver *s, const struct kernel_slot *slots, int count, int make);
 void solver_bitonic_sort(struct solver *s);
 void solver_gather_persistent(struct solver *s);
 

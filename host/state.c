@@ -167,7 +167,7 @@ size_t solver_bytes_per_particle(const struct solver *s)
     return bytes;
 }
 
-static cl_mem create_buffer(struct solver *s, size_t bytes)
+cl_mem solver_create_buffer(struct solver *s, size_t bytes)
 {
     if (cl_failed())
         return NULL;
@@ -388,14 +388,15 @@ int solver_create_buffers(struct solver *s, const struct sph_case *c, const stru
         return 1;
     }
     for (int f = 0; f < FIELD_COUNT; ++f)
-        s->field[f] = create_buffer(s, field_bytes(s, (enum field)f));
-    s->gather_spare = create_buffer(s, solver_spare_element(s) * (size_t)s->capacity);
-    s->sort_keys = create_buffer(s, sizeof(cl_ulong) * (size_t)s->capacity);
-    s->partials = create_buffer(s, s->element_size[ELEM_REAL] * SPH_RED_SLOTS * s->reduce_groups);
-    s->bounds_partials = create_buffer(s, s->element_size[ELEM_REAL] * 6 * s->reduce_groups);
-    s->materials = create_buffer(s, sizeof(struct material_double) * SPH_MAX_MATERIALS);
-    s->run_params = create_buffer(s, 8 * 16);
-    s->walls = create_buffer(s, sizeof(cl_double) * 8 * SPH_MAX_WALLS);
+        s->field[f] = solver_create_buffer(s, field_bytes(s, (enum field)f));
+    s->gather_spare = solver_create_buffer(s, solver_spare_element(s) * (size_t)s->capacity);
+    s->sort_keys = solver_create_buffer(s, sizeof(cl_ulong) * (size_t)s->capacity);
+    s->partials =
+        solver_create_buffer(s, s->element_size[ELEM_REAL] * SPH_RED_SLOTS * s->reduce_groups);
+    s->bounds_partials = solver_create_buffer(s, s->element_size[ELEM_REAL] * 6 * s->reduce_groups);
+    s->materials = solver_create_buffer(s, sizeof(struct material_double) * SPH_MAX_MATERIALS);
+    s->run_params = solver_create_buffer(s, 8 * 16);
+    s->walls = solver_create_buffer(s, sizeof(cl_double) * 8 * SPH_MAX_WALLS);
 
     upload_vectors(s, s->field[FIELD_POS], scene->position, s->n_real);
     upload_vectors(s, s->field[FIELD_POS0], scene->position, s->n_real);
@@ -461,6 +462,26 @@ void solver_release_buffers(struct solver *s)
     release(&s->materials);
     release(&s->run_params);
     release(&s->walls);
+}
+
+void solver_read_reals(struct solver *s, cl_mem m, size_t count, double *out)
+{
+    if (s->double_precision) {
+        CL_CHECK(clEnqueueReadBuffer(s->dev->queue, m, CL_TRUE, 0, count * sizeof(double), out, 0,
+                                     NULL, NULL));
+        return;
+    }
+    /* the per-step reductions (at most 64 groups x 20 slots) need no heap */
+    float small[2048];
+    float *tmp = count <= 2048 ? small : CHECKED_CALLOC(count, sizeof(float), "read-back of reals");
+    if (!tmp)
+        return;
+    CL_CHECK(clEnqueueReadBuffer(s->dev->queue, m, CL_TRUE, 0, count * sizeof(float), tmp, 0, NULL,
+                                 NULL));
+    for (size_t k = 0; k < count; ++k)
+        out[k] = tmp[k];
+    if (tmp != small)
+        free(tmp);
 }
 
 /* Reads a field as doubles, `width` reals per particle. */
@@ -571,8 +592,7 @@ int solver_read_fields(struct solver *s, struct host_fields *o)
         o->mass[q] = mass[k];
         o->id[q] = q;
         /* graded lattices: a level-l particle's own h is 2^l times the fine one */
-        o->smoothing_length[q] =
-            s->run.h * (double)(1 << ((flags[k] >> SPH_LEVEL_SHIFT) & SPH_LEVEL_MASK));
+        o->smoothing_length[q] = s->run.h * (double)(1 << SPH_LEVEL_OF(flags[k]));
         stress_to_tensor6(&dev[(size_t)k * sw], s->dim, p[k], &o->stress[6 * q], &o->von_mises[q]);
     }
     free(pos), free(pos0), free(vel), free(rho), free(p), free(e), free(ep), free(dev);

@@ -12,61 +12,46 @@ int solver_create_buffers(struct solver *s, const struct sph_case *c, const stru
 void solver_upload_constants(struct solver *s, const struct sph_case *c);
 void solver_release_buffers(struct solver *s);
 
-/* Arguments that are not particle fields (SET_ARGS binds those from the
- * registry): the run parameters and the grid. */
-#define RUN_PARAMS(s) MEM("run", (s)->run_params)
-#define GRID_RANGES(s)                                                                             \
-    MEM("sort_keys", (s)->sort_keys), MEM("cell_start", (s)->cell_start),                          \
-        MEM("cell_end", (s)->cell_end)
 #define MAX_CELLS (1 << 26) /* 256 MiB of cell ranges: beyond, particles have left */
 
 /* The step's kernels, one list for making and releasing them. */
-#define STEP_KERNELS 25
-static int step_kernels(struct solver *s, struct kernel_slot slots[STEP_KERNELS])
+static void step_kernels(struct solver *s, int make)
 {
     struct kernels *k = &s->k;
     const struct kernel_slot list[] = {
-        {&k->cell_keys, "grid_cell_keys"},
-        {&k->bitonic_step, "grid_bitonic_step"},
-        {&k->fill_int, "grid_fill_int"},
-        {&k->cell_ranges, "grid_cell_ranges"},
-        {&k->bounds, "grid_bounds"},
-        {&k->gather[ELEM_REAL], "grid_gather_real"},
-        {&k->gather[ELEM_INT], "grid_gather_int"},
-        {&k->gather[ELEM_VEC], "grid_gather_vec"},
-        {&k->gather[ELEM_SYMT], "grid_gather_symt"},
-        {&k->gather[ELEM_FULLT], "grid_gather_fullt"},
-        {&k->pass1, "pass1_velocity_gradient"},
-        {&k->material, s->total_lagrangian ? "material_update" : NULL},
-        {&k->pass2, "pass2_momentum_energy"},
-        {&k->kick, "integrate_kick"},
-        {&k->drift, "integrate_drift"},
-        {&k->reduce, "reduce_step"},
-        {&k->neighbour_count, "health_neighbour_count"},
-        {&k->tl_correction, s->total_lagrangian ? "tl_correction" : NULL},
-        {&k->tl_deformation, s->total_lagrangian ? "tl_deformation" : NULL},
-        {&k->tl_first_piola, s->total_lagrangian ? "tl_first_piola" : NULL},
-        {&k->tl_momentum, s->total_lagrangian ? "tl_momentum" : NULL},
-        {&k->health, "health_indicators"},
-        {&k->neighbour_reach, s->graded ? "grid_neighbour_reach" : NULL},
-        {&k->cell_max_level, s->graded ? "grid_cell_max_level" : NULL},
-        {&k->apply_reach, s->graded ? "grid_apply_reach" : NULL},
+        {&k->cell_keys, "grid_cell_keys", 0},
+        {&k->bitonic_step, "grid_bitonic_step", 0},
+        {&k->fill_int, "grid_fill_int", 0},
+        {&k->cell_ranges, "grid_cell_ranges", 0},
+        {&k->bounds, "grid_bounds", 0},
+        {k->gather, "grid_gather", 1},
+        {&k->pass1, "pass1_velocity_gradient", 0},
+        {&k->material, s->total_lagrangian ? "material_update" : NULL, 0},
+        {&k->pass2, "pass2_momentum_energy", 0},
+        {&k->kick, "integrate_kick", 0},
+        {&k->drift, "integrate_drift", 0},
+        {&k->reduce, "reduce_step", 0},
+        {&k->neighbour_count, "health_neighbour_count", 0},
+        {&k->tl_correction, s->total_lagrangian ? "tl_correction" : NULL, 0},
+        {&k->tl_deformation, s->total_lagrangian ? "tl_deformation" : NULL, 0},
+        {&k->tl_first_piola, s->total_lagrangian ? "tl_first_piola" : NULL, 0},
+        {&k->tl_momentum, s->total_lagrangian ? "tl_momentum" : NULL, 0},
+        {&k->health, "health_indicators", 0},
+        {&k->neighbour_reach, s->graded ? "grid_neighbour_reach" : NULL, 0},
+        {&k->cell_max_level, s->graded ? "grid_cell_max_level" : NULL, 0},
+        {&k->apply_reach, s->graded ? "grid_apply_reach" : NULL, 0},
     };
-    _Static_assert(sizeof list / sizeof list[0] == STEP_KERNELS, "STEP_KERNELS");
-    memcpy(slots, list, sizeof list);
-    return STEP_KERNELS;
+    solver_kernels(s, list, (int)(sizeof list / sizeof list[0]), make);
 }
 
 static void create_kernels(struct solver *s)
 {
-    struct kernel_slot slots[STEP_KERNELS];
-    solver_make_kernels(s, slots, step_kernels(s, slots));
+    step_kernels(s, 1);
 }
 
 static void release_kernels(struct solver *s)
 {
-    struct kernel_slot slots[STEP_KERNELS];
-    solver_release_kernels(slots, step_kernels(s, slots));
+    step_kernels(s, 0);
 }
 
 static void fill_run_params(struct solver *s, const struct sph_case *c)
@@ -134,8 +119,8 @@ int solver_create(struct solver *s, struct sph_device *dev, const struct sph_cas
         return 1;
     solver_upload_constants(s, c);
     create_kernels(s);
-    if (solver_ghosts_create(s, error, error_size) ||
-        solver_projectile_create(s, c, scene, error, error_size))
+    solver_ghosts_create(s);
+    if (solver_projectile_create(s, c, scene, error, error_size))
         return 1;
     if (cl_failed()) /* a buffer, upload or kernel the calls above could not make */
         return snprintf(error, error_size, "%s", cl_failure()) > 0;
@@ -156,16 +141,7 @@ static void read_bounds(struct solver *s, double lo[3], double hi[3])
     solver_launch(s, s->k.bounds, (size_t)s->reduce_groups * REDUCE_GROUP_SIZE, REDUCE_GROUP_SIZE);
     const size_t count = 6 * (size_t)s->reduce_groups;
     double values[6 * 64] = {0};
-    if (s->double_precision)
-        CL_CHECK(clEnqueueReadBuffer(s->dev->queue, s->bounds_partials, CL_TRUE, 0,
-                                     count * sizeof(double), values, 0, NULL, NULL));
-    else {
-        float tmp[6 * 64] = {0};
-        CL_CHECK(clEnqueueReadBuffer(s->dev->queue, s->bounds_partials, CL_TRUE, 0,
-                                     count * sizeof(float), tmp, 0, NULL, NULL));
-        for (size_t k = 0; k < count; ++k)
-            values[k] = tmp[k];
-    }
+    solver_read_reals(s, s->bounds_partials, count, values);
     for (int a = 0; a < 3; ++a) {
         lo[a] = HUGE_VAL;
         hi[a] = -HUGE_VAL;
@@ -208,24 +184,18 @@ static int layout_grid(struct solver *s, char *error, size_t error_size)
         return 1;
     }
     g->cell_count = g->dims[0] * g->dims[1] * g->dims[2];
+    g->dims4 = (cl_int4){{g->dims[0], g->dims[1], g->dims[2], 0}};
     if (g->cell_count > g->cell_capacity) {
         if (s->cell_start)
             clReleaseMemObject(s->cell_start), clReleaseMemObject(s->cell_end);
         if (s->cell_level)
             clReleaseMemObject(s->cell_level), s->cell_level = NULL;
         g->cell_capacity = g->cell_count + g->cell_count / 4;
-        cl_int err = CL_SUCCESS;
-        s->cell_start = clCreateBuffer(s->dev->context, CL_MEM_READ_WRITE,
-                                       sizeof(cl_int) * (size_t)g->cell_capacity, NULL, &err);
-        CL_CHECK_ERR("clCreateBuffer(cell_start)", err);
-        s->cell_end = clCreateBuffer(s->dev->context, CL_MEM_READ_WRITE,
-                                     sizeof(cl_int) * (size_t)g->cell_capacity, NULL, &err);
-        CL_CHECK_ERR("clCreateBuffer(cell_end)", err);
-        if (s->graded) {
-            s->cell_level = clCreateBuffer(s->dev->context, CL_MEM_READ_WRITE,
-                                           sizeof(cl_int) * (size_t)g->cell_capacity, NULL, &err);
-            CL_CHECK_ERR("clCreateBuffer(cell_level)", err);
-        }
+        const size_t bytes = sizeof(cl_int) * (size_t)g->cell_capacity;
+        s->cell_start = solver_create_buffer(s, bytes);
+        s->cell_end = solver_create_buffer(s, bytes);
+        if (s->graded)
+            s->cell_level = solver_create_buffer(s, bytes);
     }
     return 0;
 }
@@ -234,11 +204,8 @@ static void sort_keys(struct solver *s)
 {
     struct real4_arg origin;
     struct real_arg inv_cell;
-    cl_int4 dims = {{s->grid.dims[0], s->grid.dims[1], s->grid.dims[2], 0}};
-    SET_ARGS(s, s->k.cell_keys, MEM("sort_keys", s->sort_keys), INT("n", s->n),
-             real4_value(s, &origin, "origin", s->grid.origin),
-             real_value(s, &inv_cell, "inv_cell_size", 1.0 / s->grid.cell_size),
-             RAW("grid_dims", sizeof dims, &dims));
+    SET_ARGS(s, s->k.cell_keys, INT("n", s->n), real4_value(s, &origin, "origin", s->grid.origin),
+             real_value(s, &inv_cell, "inv_cell_size", 1.0 / s->grid.cell_size));
     solver_launch(s, s->k.cell_keys, (size_t)s->n, 0);
     solver_bitonic_sort(s);
 }
@@ -251,12 +218,9 @@ static void cell_ranges(struct solver *s)
         SET_ARGS(s, s->k.fill_int, MEM("a", targets[t]), INT("value", minus_one), INT("n", cells));
         solver_launch(s, s->k.fill_int, (size_t)cells, 0);
     }
-    SET_ARGS(s, s->k.cell_ranges, GRID_RANGES(s), INT("n", s->n));
+    SET_ARGS(s, s->k.cell_ranges, INT("n", s->n));
     solver_launch(s, s->k.cell_ranges, (size_t)s->n, 0);
 }
-
-/* The grid arguments every neighbour pass takes (GRID_ARGS). */
-#define GRID_ARG_LIST(s, dims) GRID_RANGES(s), RAW("grid_dims", sizeof(dims), &(dims))
 
 int solver_sort(struct solver *s, char *error, size_t error_size)
 {
@@ -268,16 +232,12 @@ int solver_sort(struct solver *s, char *error, size_t error_size)
     s->moved_since_sort = 0;
     solver_ghosts_reindex(s);
     if (s->graded) {
-        const cl_int4 dims = {{s->grid.dims[0], s->grid.dims[1], s->grid.dims[2], 0}};
         struct real_arg a_skin;
         const cl_int cells = s->grid.cell_count;
-        SET_ARGS(s, s->k.cell_max_level, MEM("cell_start", s->cell_start),
-                 MEM("cell_end", s->cell_end), MEM("cell_level", s->cell_level),
-                 INT("cells", cells));
+        SET_ARGS(s, s->k.cell_max_level, INT("cells", cells));
         solver_launch(s, s->k.cell_max_level, (size_t)cells, 0);
         /* the gather spare (free after the gathers) holds the reaches */
-        SET_ARGS(s, s->k.neighbour_reach, GRID_ARG_LIST(s, dims), MEM("cell_level", s->cell_level),
-                 RUN_PARAMS(s), real_value(s, &a_skin, "skin", s->skin),
+        SET_ARGS(s, s->k.neighbour_reach, real_value(s, &a_skin, "skin", s->skin),
                  MEM("reach", s->gather_spare), INT("n", s->n));
         solver_launch(s, s->k.neighbour_reach, (size_t)s->n, 0);
         SET_ARGS(s, s->k.apply_reach, MEM("reach", s->gather_spare), INT("n", s->n));
@@ -295,10 +255,8 @@ static size_t pass_items(const struct solver *s)
 /* Pass 1 and, particle by particle at its end, the material update. */
 static void pass1(struct solver *s, double dt)
 {
-    const cl_int4 dims = {{s->grid.dims[0], s->grid.dims[1], s->grid.dims[2], 0}};
     struct real_arg a_dt;
-    SET_ARGS(s, s->k.pass1, GRID_ARG_LIST(s, dims), MEM("materials", s->materials), RUN_PARAMS(s),
-             real_value(s, &a_dt, "dt", dt), INT("n", s->n));
+    SET_ARGS(s, s->k.pass1, real_value(s, &a_dt, "dt", dt), INT("n", s->n));
     solver_launch(s, s->k.pass1, pass_items(s), 0);
 }
 
@@ -306,47 +264,39 @@ static void pass1(struct solver *s, double dt)
 static void material(struct solver *s, double dt)
 {
     struct real_arg a_dt;
-    SET_ARGS(s, s->k.material, MEM("materials", s->materials), RUN_PARAMS(s),
-             real_value(s, &a_dt, "dt", dt), INT("n", s->n));
+    SET_ARGS(s, s->k.material, real_value(s, &a_dt, "dt", dt), INT("n", s->n));
     solver_launch(s, s->k.material, (size_t)s->n, 0);
 }
 
 static void pass2(struct solver *s)
 {
-    const cl_int4 dims = {{s->grid.dims[0], s->grid.dims[1], s->grid.dims[2], 0}};
-    SET_ARGS(s, s->k.pass2, GRID_ARG_LIST(s, dims), RUN_PARAMS(s), INT("n", s->n));
+    SET_ARGS(s, s->k.pass2, INT("n", s->n));
     solver_launch(s, s->k.pass2, pass_items(s), 0);
 }
 
 /* Total Lagrangian passes (kernels/total_lagrangian.cl). */
 static void tl_correction(struct solver *s)
 {
-    const cl_int4 dims = {{s->grid.dims[0], s->grid.dims[1], s->grid.dims[2], 0}};
-    SET_ARGS(s, s->k.tl_correction, GRID_ARG_LIST(s, dims), MEM("materials", s->materials),
-             RUN_PARAMS(s), INT("n", s->n));
+    SET_ARGS(s, s->k.tl_correction, INT("n", s->n));
     solver_launch(s, s->k.tl_correction, (size_t)s->n, 0);
 }
 
 static void tl_deformation(struct solver *s, double dt)
 {
-    const cl_int4 dims = {{s->grid.dims[0], s->grid.dims[1], s->grid.dims[2], 0}};
     struct real_arg a_dt;
-    SET_ARGS(s, s->k.tl_deformation, GRID_ARG_LIST(s, dims), MEM("materials", s->materials),
-             RUN_PARAMS(s), real_value(s, &a_dt, "dt", dt), INT("n", s->n));
+    SET_ARGS(s, s->k.tl_deformation, real_value(s, &a_dt, "dt", dt), INT("n", s->n));
     solver_launch(s, s->k.tl_deformation, (size_t)s->n, 0);
 }
 
 static void tl_first_piola(struct solver *s)
 {
-    SET_ARGS(s, s->k.tl_first_piola, MEM("materials", s->materials), INT("n", s->n));
+    SET_ARGS(s, s->k.tl_first_piola, INT("n", s->n));
     solver_launch(s, s->k.tl_first_piola, (size_t)s->n, 0);
 }
 
 static void tl_momentum(struct solver *s)
 {
-    const cl_int4 dims = {{s->grid.dims[0], s->grid.dims[1], s->grid.dims[2], 0}};
-    SET_ARGS(s, s->k.tl_momentum, GRID_ARG_LIST(s, dims), MEM("materials", s->materials),
-             RUN_PARAMS(s), INT("n", s->n));
+    SET_ARGS(s, s->k.tl_momentum, INT("n", s->n));
     solver_launch(s, s->k.tl_momentum, (size_t)s->n, 0);
 }
 
@@ -383,9 +333,8 @@ void solver_step(struct solver *s, double dt, double dt_prev, const double load[
         pass2(s);
     if (s->projectile.enabled)
         solver_projectile_contact(s, dt, dt_prev); /* adds to the accelerations */
-    SET_ARGS(s, s->k.kick, MEM("materials", s->materials), RUN_PARAMS(s), MEM("walls", s->walls),
-             INT("wall_count", s->wall_count), real_value(s, &a_dx, "dx", s->dx),
-             real_value(s, &a_dt, "dt", dt), real_value(s, &a_prev, "dt_prev", dt_prev),
+    SET_ARGS(s, s->k.kick, real_value(s, &a_dx, "dx", s->dx), real_value(s, &a_dt, "dt", dt),
+             real_value(s, &a_prev, "dt_prev", dt_prev),
              real4_value(s, &a_load, "load_force", load), INT("n", s->n));
     solver_launch(s, s->k.kick, (size_t)s->n, 0);
     if (s->projectile.enabled)
@@ -398,7 +347,7 @@ void solver_step(struct solver *s, double dt, double dt_prev, const double load[
         plane[a] = s->ghosts.plane[a];
     }
     struct real4_arg a_side, a_plane;
-    SET_ARGS(s, s->k.drift, MEM("materials", s->materials), real_value(s, &a_dt, "dt", dt),
+    SET_ARGS(s, s->k.drift, real_value(s, &a_dt, "dt", dt),
              real4_value(s, &a_plane, "plane", plane), real4_value(s, &a_side, "side", side),
              INT("n", s->n));
     solver_launch(s, s->k.drift, (size_t)s->n, 0);
@@ -443,41 +392,25 @@ static void combine_partials(const struct solver *s, const double *v, struct red
 }
 
 /* Reads `count` per-group partials of the device precision as doubles. */
-static void read_partials(struct solver *s, size_t count, double *values)
-{
-    if (s->double_precision) {
-        CL_CHECK(clEnqueueReadBuffer(s->dev->queue, s->partials, CL_TRUE, 0, count * sizeof(double),
-                                     values, 0, NULL, NULL));
-        return;
-    }
-    float tmp[64 * SPH_RED_SLOTS] = {0};
-    CL_CHECK(clEnqueueReadBuffer(s->dev->queue, s->partials, CL_TRUE, 0, count * sizeof(float), tmp,
-                                 0, NULL, NULL));
-    for (size_t k = 0; k < count; ++k)
-        values[k] = tmp[k];
-}
-
 void solver_reduce(struct solver *s, const double load[3], struct reduction *out)
 {
     struct real4_arg a_load;
-    SET_ARGS(s, s->k.reduce, INT("wall_count", s->wall_count), RUN_PARAMS(s),
-             real4_value(s, &a_load, "load_force", load), MEM("partials", s->partials),
-             INT("n", s->n));
+    SET_ARGS(s, s->k.reduce, real4_value(s, &a_load, "load_force", load),
+             MEM("partials", s->partials), INT("n", s->n));
     solver_launch(s, s->k.reduce, (size_t)s->reduce_groups * REDUCE_GROUP_SIZE, REDUCE_GROUP_SIZE);
     double values[64 * SPH_RED_SLOTS] = {0};
-    read_partials(s, (size_t)s->reduce_groups * SPH_RED_SLOTS, values);
+    solver_read_reals(s, s->partials, (size_t)s->reduce_groups * SPH_RED_SLOTS, values);
     combine_partials(s, values, out);
 }
 
 void solver_health(struct solver *s, struct health_reading *out)
 {
-    const cl_int4 dims = {{s->grid.dims[0], s->grid.dims[1], s->grid.dims[2], 0}};
     struct real_arg a_dx;
-    SET_ARGS(s, s->k.health, GRID_ARG_LIST(s, dims), RUN_PARAMS(s),
-             real_value(s, &a_dx, "dx", s->dx), MEM("partials", s->partials), INT("n", s->n));
+    SET_ARGS(s, s->k.health, real_value(s, &a_dx, "dx", s->dx), MEM("partials", s->partials),
+             INT("n", s->n));
     solver_launch(s, s->k.health, (size_t)s->reduce_groups * REDUCE_GROUP_SIZE, REDUCE_GROUP_SIZE);
     double v[64 * SPH_HEALTH_SLOTS] = {0};
-    read_partials(s, (size_t)s->reduce_groups * SPH_HEALTH_SLOTS, v);
+    solver_read_reals(s, s->partials, (size_t)s->reduce_groups * SPH_HEALTH_SLOTS, v);
     double min_distance = HUGE_VAL, nb_min = HUGE_VAL, nb_max = 0, sums[SPH_HEALTH_SLOTS] = {0};
     for (int g = 0; g < s->reduce_groups; ++g) {
         const double *p = &v[g * SPH_HEALTH_SLOTS];
@@ -498,9 +431,7 @@ void solver_health(struct solver *s, struct health_reading *out)
 
 void solver_neighbour_counts(struct solver *s, int *count_by_id)
 {
-    const cl_int4 dims = {{s->grid.dims[0], s->grid.dims[1], s->grid.dims[2], 0}};
-    SET_ARGS(s, s->k.neighbour_count, GRID_ARG_LIST(s, dims), RUN_PARAMS(s),
-             MEM("neighbour_count", s->gather_spare), INT("n", s->n));
+    SET_ARGS(s, s->k.neighbour_count, MEM("neighbour_count", s->gather_spare), INT("n", s->n));
     solver_launch(s, s->k.neighbour_count, (size_t)s->n, 0);
     int *count = CHECKED_CALLOC((size_t)s->n, sizeof(int), "neighbour counts");
     int *id = CHECKED_CALLOC((size_t)s->n, sizeof(int), "neighbour count ids");

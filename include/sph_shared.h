@@ -64,6 +64,7 @@ enum sph_flag {
  * (SPH_GRID_SPLIT on a uniform lattice). */
 #define SPH_LEVEL_SHIFT 8
 #define SPH_LEVEL_MASK 15
+#define SPH_LEVEL_OF(flags) (((flags) >> SPH_LEVEL_SHIFT) & SPH_LEVEL_MASK)
 /* Grid cells per support (1 + skin): a particle on a uniform lattice
  * searches SPH_GRID_SPLIT cells each way. Finer cells test fewer
  * candidates per neighbour (3-D, by volume: ((2 s + 1) 1.2 / s)^3 / (4 pi / 3)

@@ -1,5 +1,8 @@
 /*
- * Types, tensor storage and the one neighbour loop every pass uses.
+ * Types, tensor storage, the cell grid and its per-particle neighbour loop
+ * (FOR_EACH_NEIGHBOUR: the total Lagrangian form, health, the grid's test
+ * hook; passes 1 and 2 walk lane blocks, kernels/lanes.cl), the shared
+ * stress, kernel-function and reduction helpers.
  *
  * Build options (set by host/device.c from the case):
  *   SPH_DIM 2|3, SPH_KERNEL 0..5 (enum sph_kernel_type), SPH_PLANE_STRESS,
@@ -142,7 +145,7 @@ static inline fullt fullt_store(real t[3][3])
  * host/scene.c); 1 on a uniform lattice. */
 static inline real spacing_scale(int flag)
 {
-    return (real)(1 << ((flag >> SPH_LEVEL_SHIFT) & SPH_LEVEL_MASK));
+    return (real)(1 << SPH_LEVEL_OF(flag));
 }
 
 /* The neighbour grid as the passes see it: cells of edge `cell_size` from
@@ -196,8 +199,9 @@ static inline int2 cell_row_span(__global const int *restrict cell_start,
  * the particle's flags say (its coarser neighbours' support reaches that
  * far). On a uniform lattice both are constants. Kernels that use them
  * take `flags` and `run`. */
+#define PAIR_H_OF(scale_i, scale_j) ((real)0.5 * run->h * ((scale_i) + (scale_j)))
 #ifdef SPH_GRADED
-#define PAIR_H(i, j) ((real)0.5 * run->h * (spacing_scale(flags[i]) + spacing_scale(flags[j])))
+#define PAIR_H(i, j) PAIR_H_OF(spacing_scale(flags[i]), spacing_scale(flags[j]))
 #define NEIGHBOUR_REACH(i) ((flags[i] >> SPH_REACH_SHIFT) & SPH_REACH_MASK)
 #else
 #define PAIR_H(i, j) (run->h)
@@ -378,33 +382,30 @@ static inline void work_group_reduce(__local real *acc, const real *mine, const 
              i = (int)get_group_id(0) * blk_ + (int)get_local_id(0);                               \
          i < end_; i += (int)get_local_size(0))
 
-static inline real kernel_w(real r, real h)
-{
-    return sph_kernel_value(SPH_KERNEL, SPH_DIM, r, h);
-}
+/* dW/dr at r (the health indicators' W'', reduce.cl). */
 static inline real kernel_dwdr(real r, real h)
 {
     return sph_kernel_dwdr(SPH_KERNEL, SPH_DIM, r, h);
 }
 
-/* The same on lane vectors, of q = r / h: the pair loops form q with a
- * product by 1 / h and keep their divisions out of the per-candidate work,
- * since a vector division costs many multiply-adds on a CPU
- * (docs/performance.md). */
-static inline hreal inv_h_pow_v(hreal h) /* 1 / h^dim, as sph_inv_h_pow */
+/* W and (dW/dr) / r on lane vectors, of q = r / h and 1 / h: the pair
+ * loops form q with a product by 1 / h and the powers of 1 / h by products,
+ * so no division is left in the per-pair work (a vector division costs
+ * many multiply-adds on a CPU, docs/performance.md). */
+static inline hreal inv_h_pow_dim(hreal inv_h) /* 1 / h^dim */
 {
-    const hreal ih = (real)1 / h;
-    return SPH_DIM == 2 ? ih * ih : ih * ih * ih;
+    return SPH_DIM == 2 ? inv_h * inv_h : inv_h * inv_h * inv_h;
 }
 
-static inline realv kernel_w_q(realv q, hreal h)
+static inline realv kernel_w_q(realv q, hreal inv_h)
 {
-    return sph_kernel_sigma(SPH_KERNEL, SPH_DIM) * inv_h_pow_v(h) * sph_kernel_shape(SPH_KERNEL, q);
+    return sph_kernel_sigma(SPH_KERNEL, SPH_DIM) * inv_h_pow_dim(inv_h) *
+           sph_kernel_shape(SPH_KERNEL, q);
 }
 
 /* (dW/dr) / r, for grad_i W_ij = (dW/dr) / r x_ij */
-static inline realv kernel_dwdr_over_r_q(realv q, hreal h)
+static inline realv kernel_dwdr_over_r_q(realv q, hreal inv_h)
 {
-    return sph_kernel_sigma(SPH_KERNEL, SPH_DIM) * inv_h_pow_v(h) / (h * h) *
+    return sph_kernel_sigma(SPH_KERNEL, SPH_DIM) * inv_h_pow_dim(inv_h) * (inv_h * inv_h) *
            sph_kernel_shape_dq_over_q(SPH_KERNEL, q);
 }

@@ -91,7 +91,8 @@ __kernel void grid_cell_ranges(__global const ulong *restrict sort_keys,
 }
 
 /* Gathers one field into sorted order: out[i] = in[slot of sorted key i].
- * After the gather the host swaps the buffers; from then on only the high
+ * After the gather the host copies `out` back into the field (one spare
+ * serves every field: host/launch.c); from then on only the high
  * half of the keys (the cell) is read. */
 #define GRID_GATHER(NAME, TYPE)                                                                    \
     __kernel void NAME(__global const ulong *restrict sort_keys, __global const TYPE *restrict in, \
@@ -108,8 +109,9 @@ GRID_GATHER(grid_gather_symt, symt)
 GRID_GATHER(grid_gather_fullt, fullt)
 
 /* Test hook: for each particle, the original ids of its neighbours within
- * `radius` (excluding itself), through the same neighbour loop the passes
- * use. reads pos, id; writes count, list (max_list per particle). */
+ * `radius` (excluding itself), through FOR_EACH_NEIGHBOUR (the cells the
+ * one-lane pass loop visits; tests/test_neighbours.c against brute force).
+ * reads pos, id; writes count, list (max_list per particle). */
 __kernel void grid_neighbour_list(__global const vec *restrict pos, __global const int *restrict id,
                                   GRID_ARGS, const real radius, __global int *restrict count,
                                   __global int *restrict list, const int max_list, const int n)
@@ -164,7 +166,7 @@ __kernel void grid_cell_max_level(__global const int *restrict flags,
     int level = -1;
     const int first = cell_start[c], last = cell_end[c];
     for (int j = first < 0 ? 0 : first; j < last; ++j)
-        level = max(level, (flags[j] >> SPH_LEVEL_SHIFT) & SPH_LEVEL_MASK);
+        level = max(level, SPH_LEVEL_OF(flags[j]));
     cell_level[c] = level;
 }
 
@@ -179,7 +181,7 @@ __kernel void grid_neighbour_reach(__global const vec *restrict pos,
     if (i >= n)
         return;
     const int flag = flags[i];
-    const int level = (flag >> SPH_LEVEL_SHIFT) & SPH_LEVEL_MASK;
+    const int level = SPH_LEVEL_OF(flag);
     const real scale = spacing_scale(flag);
     const int wide = reach_cells((real)1.5 * scale, skin);
     const real limit = (real)1.5 * run->support * scale + skin * run->support;
@@ -201,8 +203,7 @@ __kernel void grid_neighbour_reach(__global const vec *restrict pos,
                     continue;
                 for (int j = cell_start[cell]; j < cell_end[cell] && !coarser_near; ++j) {
                     const vec d = xi - pos[j];
-                    coarser_near = ((flags[j] >> SPH_LEVEL_SHIFT) & SPH_LEVEL_MASK) > level &&
-                                   dot(d, d) < limit * limit;
+                    coarser_near = SPH_LEVEL_OF(flags[j]) > level && dot(d, d) < limit * limit;
                 }
             }
         }

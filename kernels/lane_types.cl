@@ -5,45 +5,24 @@
  * SPH_LANES is 1), `maskv` the matching comparison result.
  */
 
-#if SPH_LANES == 1
-typedef real realv;
-#ifdef SPH_DOUBLE
-typedef long maskv;
-#else
-typedef int maskv;
-#endif
-#elif SPH_LANES == 4
-#ifdef SPH_DOUBLE
-typedef double4 realv;
-typedef long4 maskv;
-#else
-typedef float4 realv;
-typedef int4 maskv;
-#endif
-#elif SPH_LANES == 8
-#ifdef SPH_DOUBLE
-typedef double8 realv;
-typedef long8 maskv;
-#else
-typedef float8 realv;
-typedef int8 maskv;
-#endif
-#elif SPH_LANES == 16
-#ifdef SPH_DOUBLE
-typedef double16 realv;
-typedef long16 maskv;
-#else
-typedef float16 realv;
-typedef int16 maskv;
-#endif
-#else
-#error "SPH_LANES must be 1, 4, 8 or 16"
-#endif
-
 #ifdef SPH_DOUBLE
 typedef long mask_scalar;
 #else
 typedef int mask_scalar;
+#endif
+
+/* The widths host/state.c builds (solver_lanes): 1 and 8. */
+#if SPH_LANES == 1
+typedef real realv;
+typedef mask_scalar maskv;
+#elif SPH_LANES == 8 && defined(SPH_DOUBLE)
+typedef double8 realv;
+typedef long8 maskv;
+#elif SPH_LANES == 8
+typedef float8 realv;
+typedef int8 maskv;
+#else
+#error "SPH_LANES must be 1 or 8 (host/state.c, solver_lanes)"
 #endif
 
 typedef union {

@@ -5,10 +5,10 @@
  * terms once, in `realv` arithmetic, and this file makes that arithmetic
  * one particle wide or several.
  *
- * SPH_LANES 1 (numerics.neighbour_loop: plain; the total Lagrangian form; a
- * GPU's natural shape): realv is real, a work-item is one particle, the
- * loop is FOR_EACH_NEIGHBOUR's.
- * SPH_LANES 4, 8 or 16 (lanes, the default on a CPU where it applies):
+ * SPH_LANES 1 (numerics.neighbour_loop: plain, the shape a GPU's compiler
+ * expects; the total Lagrangian form): realv is real, a work-item is one
+ * particle, the loop visits FOR_EACH_NEIGHBOUR's cells.
+ * SPH_LANES 8 (lanes, the default in the updated Lagrangian form):
  * PoCL vectorises a kernel across work-items only when its body has no
  * inner loop of varying trip count, so a one-particle neighbour loop runs
  * one particle per instruction on a CPU (docs/performance.md). Here a
@@ -19,13 +19,10 @@
  * costs one vector distance test. A lane whose particle is not within the
  * support contributes exactly zero (select, not a multiply, so the r = 0
  * of i itself cannot leak a NaN). The sums over the neighbours run in the
- * same cell order for every width, so widths agree to rounding (tests:
- * lanes_match_plain_*, every smoothing kernel).
+ * same cell order for every width, so on PoCL the widths agree to the bit
+ * with the polynomial smoothing kernels (vector cos and exp round
+ * differently; tests: lanes_match_plain_*, every smoothing kernel).
  */
-
-#if defined(SPH_GRADED) && defined(SPH_ARTIFICIAL_STRESS)
-#error "graded lattices take no artificial stress (host/case.c)"
-#endif
 
 /* Whether any lane of a mask is set. OpenCL's any() on a vector mask runs
  * lane by lane in PoCL 3.1 and took a third of pass 1's time at 50k; an
@@ -37,29 +34,15 @@ static inline int lanes_any(maskv m)
     return m != 0;
 }
 #else
-#ifdef SPH_DOUBLE
-#define LANE_MASK_WORDS SPH_LANES
-#else
-#define LANE_MASK_WORDS (SPH_LANES / 2)
-#endif
 static inline int lanes_any(maskv m)
 {
-#if LANE_MASK_WORDS == 16
-    const ulong16 w16 = as_ulong16(m);
-    const ulong8 w8 = w16.lo | w16.hi;
-#elif LANE_MASK_WORDS == 8
+#ifdef SPH_DOUBLE /* 8 64-bit words */
     const ulong8 w8 = as_ulong8(m);
-#endif
-#if LANE_MASK_WORDS >= 8
     const ulong4 w4 = w8.lo | w8.hi;
-#elif LANE_MASK_WORDS == 4
+#else             /* 8 32-bit lanes in 4 64-bit words */
     const ulong4 w4 = as_ulong4(m);
 #endif
-#if LANE_MASK_WORDS >= 4
     const ulong2 w2 = w4.lo | w4.hi;
-#else
-    const ulong2 w2 = as_ulong2(m);
-#endif
     return (w2.x | w2.y) != 0;
 }
 #endif
@@ -120,16 +103,22 @@ static inline int lane_block_setup(struct lane_block *b, __global const int *res
     return any_live;
 }
 
-/* The pair smoothing length of the lanes with candidate j; on a uniform
- * lattice run->h, set once before the loop by LANE_PASS_CONSTANTS (h,
- * 1 / h and the support squared; on a graded lattice (support / h)^2, from
- * which LANE_PAIR_H's support follows). */
+/* The pair's smoothing length h, its support squared and 1 / h for the
+ * lanes with candidate j. LANE_PASS_CONSTANTS goes before the loop,
+ * LANE_PAIR_SUPPORT(b, j) before the distance test and LANE_PAIR_INV_H after
+ * it (so a candidate no lane reaches pays no division). On a uniform
+ * lattice all three are run constants, set once; on a graded one h is each
+ * lane's pair mean (common.cl PAIR_H_OF) and the support scales with it. */
 #ifdef SPH_GRADED
-#define LANE_PAIR_H(b, j) ((real)0.5 * run->h * ((b).scale + spacing_scale(flags[j])))
 #define LANE_PASS_CONSTANTS const real q2 = (run->support / run->h) * (run->support / run->h)
+#define LANE_PAIR_SUPPORT(b, j)                                                                    \
+    const hreal h = PAIR_H_OF((b).scale, spacing_scale(flags[j])), support2 = q2 * h * h
+#define LANE_PAIR_INV_H const hreal inv_h = (real)1 / h
 #else
 #define LANE_PASS_CONSTANTS                                                                        \
     const real h = run->h, inv_h = (real)1 / h, support2 = run->support * run->support
+#define LANE_PAIR_SUPPORT(b, j)
+#define LANE_PAIR_INV_H
 #endif
 
 /* Whether lane l of a block holds a particle its pass updates (set up by
@@ -142,7 +131,7 @@ static inline bool lane_live(const struct lane_block *b, int l)
 }
 
 /* FOR_EACH_LANE_NEIGHBOUR(block, j) { ... } END_FOR_EACH_LANE_NEIGHBOUR:
- * every j in the cells within SPH_GRID_SPLIT of the block's box; rows of
+ * every j in the cells within LANE_REACH of the block's box; rows of
  * cells are contiguous in the sorted order, as in FOR_EACH_NEIGHBOUR. */
 #define FOR_EACH_LANE_NEIGHBOUR(b, j)                                                              \
     for (int cz_ = max((b).lo.z - GRID_DZ * LANE_REACH(b), 0);                                     \
@@ -236,21 +225,6 @@ static inline void gather_symt(__global const symt *restrict f, const struct lan
     for (int l = 0; l < SPH_LANES; ++l) {
         real t[3][3];
         symt_load(b->first + l < n ? f[b->first + l] : symt_zero(), t);
-        lanes_tensor_put(u, l, t);
-    }
-    lanes_tensor_get(u, out);
-}
-
-/* The total stress S - p I per lane (common.cl total_stress). */
-static inline void gather_total_stress(__global const real *restrict pressure,
-                                       __global const symt *restrict deviatoric_stress,
-                                       const struct lane_block *b, int n, realv out[3][3])
-{
-    lanes_union u[3][3];
-    for (int l = 0; l < SPH_LANES; ++l) {
-        real t[3][3];
-        const int i = b->first + l;
-        total_stress(i < n ? pressure[i] : (real)0, i < n ? deviatoric_stress[i] : symt_zero(), t);
         lanes_tensor_put(u, l, t);
     }
     lanes_tensor_get(u, out);

@@ -186,14 +186,6 @@ static inline bool particle_failed(__constant const struct sph_material *m, real
     density_change, energy, deviatoric_stress, plastic_strain, temperature, energy_rate, pressure, \
         sound_speed, artificial_stress
 
-/* The material update of particle i (not a ghost) from its velocity
- * gradient l (1/s) and density rate (kg/m^3/s) over the step dt (s): called
- * at the end of pass 1 in the updated Lagrangian form (pass1.cl),
- * so the velocity gradient is never stored, and by material_update in the
- * total Lagrangian form. It writes only particle i's own state, and not its
- * density or flags, which neighbours' pass 1 reads while it runs: it
- * returns the new density, and integrate_drift writes that and the damage
- * flag (particle_failed) after every particle's update. */
 /* S^(n+1) from S^n: the Jaumann rate with the step's strain rate d and spin
  * w (none for failed material: a fluid), then the plastic return. Returns
  * the deviatoric stress power's two halves, S^n : d + S^(n+1) : d: the
@@ -278,6 +270,14 @@ static inline void store_stress(__constant const struct sph_material *m, real s[
 #endif
 }
 
+/* The material update of particle i (not a ghost) from its velocity
+ * gradient l (1/s) and density rate (kg/m^3/s) over the step dt (s): called
+ * at the end of pass 1 in the updated Lagrangian form (pass1.cl),
+ * so the velocity gradient is never stored, and by material_update in the
+ * total Lagrangian form. It writes only particle i's own state, and not its
+ * density or flags, which neighbours' pass 1 reads while it runs: it
+ * returns the new density, and integrate_drift writes that and the damage
+ * flag (particle_failed) after every particle's update. */
 static inline real
 material_update_particle(int i, real l[3][3], real density_rate_i, real dt,
                          __global const real *restrict rho, __global const int *restrict material,

@@ -18,7 +18,7 @@
  * With SPH_AV_LIMITED the (corrected) L_i is also stored, for pass 2's
  * reconstruction of the pair velocity jump (pass2.cl).
  *
- * reads: pos, vel (half step), rho, mass, material, flags, energy_rate;
+ * reads: pos, vel_half, rho, mass, material, flags, energy_rate;
  * writes: csph, velocity_gradient (SPH_AV_LIMITED); updates: av_alpha
  * (SPH_AV_SWITCH) and the material state (MATERIAL_STATE_ARGS).
  */
@@ -93,9 +93,7 @@ pass1_finish(int i, real grad_v[3][3], real moment[3][3], __global const real *r
                              materials, run, MATERIAL_STATE);
 }
 
-/* reads: pos, vel (half step), rho, mass, material, flags, energy_rate;
- * writes: csph, velocity_gradient (SPH_AV_LIMITED); updates: av_alpha
- * (SPH_AV_SWITCH) and the material state. One work-item per lane block
+/* What it reads and writes: the header above. One work-item per lane block
  * (kernels/lanes.cl). */
 __kernel void pass1_velocity_gradient(
     __global const vec *restrict pos, __global const vec *restrict vel_half,
@@ -118,15 +116,15 @@ __kernel void pass1_velocity_gradient(
     FOR_EACH_LANE_NEIGHBOUR(b, j)
     {
         realv xij[3], r2;
-#ifdef SPH_GRADED
-        const hreal h = LANE_PAIR_H(b, j), inv_h = (real)1 / h, support2 = q2 * h * h;
-#endif
+        LANE_PAIR_SUPPORT(b, j);
         const maskv near = lane_pair(xi, pos[j], support2, xij, &r2);
         if (!lanes_any(near))
             continue;
+        LANE_PAIR_INV_H;
         const real volume = plane_mass(mass[j], pos[j], run) / rho[j];
         /* grad_i W_ij = dW/dr x_ij / r; zero for lanes out of reach */
-        const realv dwdr_r = SPH_SELECT((realv)0, kernel_dwdr_over_r_q(sqrt(r2) * inv_h, h), near);
+        const realv dwdr_r =
+            SPH_SELECT((realv)0, kernel_dwdr_over_r_q(sqrt(r2) * inv_h, inv_h), near);
         const vec vj = vel_half[j];
         realv vji[3], grad[3];
 #pragma unroll

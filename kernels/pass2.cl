@@ -40,11 +40,15 @@
  *         of energy_rate, for the work ledger), xsph_velocity.
  */
 
-/* Monaghan's (2000) artificial-stress weight (W(r) / W(dx))^n */
-static inline realv artificial_stress_weight(realv r, hreal h,
-                                             __constant const struct sph_run_params *run)
+#if defined(SPH_GRADED) && defined(SPH_ARTIFICIAL_STRESS)
+/* W(dx) (run->as_inv_w_dx) is the finest level's */
+#error "graded lattices take no artificial stress (host/case.c)"
+#endif
+
+/* Monaghan's (2000) artificial-stress weight (W(r) / W(dx))^n of w = W(r) */
+static inline realv artificial_stress_weight(realv w, __constant const struct sph_run_params *run)
 {
-    const realv f = kernel_w_q(r * ((real)1 / h), h) * run->as_inv_w_dx;
+    const realv f = w * run->as_inv_w_dx;
     realv fn = (realv)1;
     for (int k = 0; k < run->as_exponent; ++k)
         fn *= f;
@@ -59,15 +63,14 @@ static inline realv artificial_stress_weight(realv r, hreal h,
  * (Frontiere et al. 2017's eta_crit and eta_fold). eta = r / h. */
 static inline realv av_limiter(realv g_i, realv g_j, realv eta, real eta_crit)
 {
-    const realv sum = g_i + g_j, fold = (eta - eta_crit) / ((real)0.2 * eta_crit);
+    const realv sum = g_i + g_j, fold = (eta - eta_crit) * ((real)5 / eta_crit);
     const realv phi = SPH_SELECT((realv)0, (real)4 * g_i * g_j / (sum * sum), g_i * g_j > (real)0);
     return SPH_SELECT(phi, phi * exp(-fold * fold), eta < eta_crit);
 }
 
 /* v_i - v_j less the limited reconstruction from each side to the
- * midpoint: jump = v_ij - phi / 2 (L_i + L_j) x_ij */
-static inline void limited_jump(realv vij[3], realv xij[3], realv r, hreal inv_h,
-                                const realv l_i[3][3],
+ * midpoint: jump = v_ij - phi / 2 (L_i + L_j) x_ij; eta = r / h */
+static inline void limited_jump(realv vij[3], realv xij[3], realv eta, const realv l_i[3][3],
                                 __global const fullt *restrict velocity_gradient, int j,
                                 __constant const struct sph_run_params *run, realv jump[3])
 {
@@ -86,7 +89,7 @@ static inline void limited_jump(realv vij[3], realv xij[3], realv r, hreal inv_h
         g_j += xij[a] * d_j;
         d[a] = d_i + d_j;
     }
-    const realv half_phi = (real)0.5 * av_limiter(g_i, g_j, r * inv_h, run->av_eta_crit);
+    const realv half_phi = (real)0.5 * av_limiter(g_i, g_j, eta, run->av_eta_crit);
 #pragma unroll
     for (int a = 0; a < 3; ++a)
         jump[a] = a < SPH_DIM ? vij[a] - half_phi * d[a] : (realv)0;
@@ -121,6 +124,9 @@ static inline void store_xsph(__global vec *restrict xsph_velocity, int i, vec s
  * stress carries 1 / rho_i once), and the fields each option reads. */
 struct pass2_lanes_i {
     realv x[3], v[3], rho, inv_rho, sigma[3][3], c;
+#ifdef SPH_AXISYMMETRIC
+    realv r, inv_r; /* axis_radius of x and its reciprocal */
+#endif
 #ifdef SPH_ARTIFICIAL_STRESS
     realv as[3][3];
 #ifndef SPH_AS_LATTICE_WEIGHT
@@ -135,6 +141,7 @@ struct pass2_lanes_i {
 #endif
 #ifdef SPH_AV_SWITCH
     realv alpha;
+    real beta_per_alpha; /* the case's beta / alpha (Morris & Monaghan 1997 take 2) */
 #endif
 };
 
@@ -150,35 +157,41 @@ struct pass2_lanes_i {
  * at_i = 1 exactly. */
 #ifdef SPH_AXISYMMETRIC
 #define PAIR_MASSES(I, j)                                                                          \
-    const real m_j = plane_mass(mass[j], pos[j], run);                                             \
-    const realv r_i_ = fmax(fabs((I).x[0]), run->axis_radius), r_j_ = axis_radius(pos[j].x, run);  \
-    const realv m_pair = (real)2 * mass[j] / (r_i_ + r_j_), at_i = r_j_ / r_i_
+    const real r_j_ = axis_radius(pos[j].x, run), m_j = mass[j] / r_j_;                            \
+    const realv m_pair = (real)2 * mass[j] / ((I).r + r_j_), at_i = r_j_ * (I).inv_r
 #else
 #define PAIR_MASSES(I, j) const real m_j = mass[j], m_pair = m_j, at_i = (real)1
 #endif
 
-static inline void pass2_gather(struct pass2_lanes_i *I, const struct lane_block *b, int n,
-                                __global const vec *restrict pos, __global const vec *restrict pos0,
-                                __global const vec *restrict vel, __global const real *restrict rho,
-                                __global const real *restrict pressure,
-                                __global const symt *restrict deviatoric_stress,
-                                __global const symt *restrict artificial_stress,
-                                __global const symt *restrict csph,
-                                __global const real *restrict sound_speed,
-                                __global const fullt *restrict velocity_gradient,
-                                __global const real *restrict av_alpha)
+static inline void pass2_gather(
+    struct pass2_lanes_i *I, const struct lane_block *b, int n, __global const vec *restrict pos,
+    __global const vec *restrict pos0, __global const vec *restrict vel,
+    __global const real *restrict rho, __global const real *restrict pressure,
+    __global const symt *restrict deviatoric_stress,
+    __global const symt *restrict artificial_stress, __global const symt *restrict csph,
+    __global const real *restrict sound_speed, __global const fullt *restrict velocity_gradient,
+    __global const real *restrict av_alpha, __constant const struct sph_run_params *run)
 {
     lane_positions(pos, b, n, I->x);
     gather_vec(vel, b, n, I->v);
     I->rho = SPH_SELECT((realv)1, gather_real(rho, b, n), b->live);
     I->inv_rho = (real)1 / I->rho;
-    gather_total_stress(pressure, deviatoric_stress, b, n, I->sigma);
+    gather_symt(deviatoric_stress, b, n, I->sigma);
+    const realv p = gather_real(pressure, b, n);
 #pragma unroll
-    for (int a = 0; a < 3; ++a)
+    for (int a = 0; a < 3; ++a) {
+        I->sigma[a][a] -= p; /* total_stress, lane by lane */
 #pragma unroll
         for (int c = 0; c < 3; ++c)
-            I->sigma[a][c] /= I->rho;
+            I->sigma[a][c] *= I->inv_rho;
+    }
     I->c = gather_real(sound_speed, b, n);
+#ifdef SPH_AXISYMMETRIC
+    I->r = fmax(fabs(I->x[0]), run->axis_radius); /* common.cl axis_radius */
+    I->inv_r = (real)1 / I->r;
+#else
+    (void)run;
+#endif
 #ifdef SPH_ARTIFICIAL_STRESS
     gather_symt(artificial_stress, b, n, I->as);
 #ifndef SPH_AS_LATTICE_WEIGHT
@@ -200,17 +213,18 @@ static inline void pass2_gather(struct pass2_lanes_i *I, const struct lane_block
 #endif
 #ifdef SPH_AV_SWITCH
     I->alpha = gather_real(av_alpha, b, n);
+    I->beta_per_alpha = run->av_alpha > 0 ? run->av_beta / run->av_alpha : (real)0;
 #else
     (void)av_alpha;
 #endif
 }
 
-/* Pi_ij of the lanes with neighbour j: on the pair velocity jump, or with
- * SPH_AV_LIMITED on the jump between the two reconstructions; alpha the
- * case's, or with SPH_AV_SWITCH the pair mean of the particles' (beta in
- * the case's ratio to it: Morris & Monaghan 1997, beta = 2 alpha). */
-static inline realv pass2_viscosity(const struct pass2_lanes_i *I, realv vij[3], realv xij[3],
-                                    realv r, realv r2, hreal h, hreal inv_h, realv inv_rho_mean,
+/* Pi_ij of the lanes with neighbour j, given vx = v_ij . x_ij: on the
+ * pair velocity jump, or with SPH_AV_LIMITED on the jump between the two
+ * reconstructions; alpha the case's, or with SPH_AV_SWITCH the pair mean of
+ * the particles' (beta in the case's ratio to it). q = r / h. */
+static inline realv pass2_viscosity(const struct pass2_lanes_i *I, realv vx, realv vij[3],
+                                    realv xij[3], realv q, realv r2, hreal h, realv inv_rho_mean,
                                     int j, __global const real *restrict sound_speed,
                                     __global const fullt *restrict velocity_gradient,
                                     __global const real *restrict av_alpha,
@@ -218,19 +232,19 @@ static inline realv pass2_viscosity(const struct pass2_lanes_i *I, realv vij[3],
 {
 #ifdef SPH_AV_LIMITED
     realv jump[3];
-    limited_jump(vij, xij, r, inv_h, I->l, velocity_gradient, j, run, jump);
+    limited_jump(vij, xij, q, I->l, velocity_gradient, j, run, jump);
+    const realv vr = jump[0] * xij[0] + jump[1] * xij[1] + jump[2] * xij[2];
+    (void)vx;
 #else
-    const realv *jump = vij;
-    (void)r;
-    (void)inv_h;
+    const realv vr = vx;
+    (void)vij;
+    (void)q;
     (void)velocity_gradient;
 #endif
-    const realv vr = jump[0] * xij[0] + jump[1] * xij[1] + jump[2] * xij[2];
     const realv c_mean = (real)0.5 * (I->c + sound_speed[j]);
 #ifdef SPH_AV_SWITCH
-    const real beta_per_alpha = run->av_alpha > 0 ? run->av_beta / run->av_alpha : (real)0;
     const realv alpha_ij = (real)0.5 * (I->alpha + av_alpha[j]),
-                beta_ij = beta_per_alpha * alpha_ij;
+                beta_ij = I->beta_per_alpha * alpha_ij;
 #else
     (void)av_alpha;
     const real alpha_ij = run->av_alpha, beta_ij = run->av_beta;
@@ -271,19 +285,19 @@ static inline void pass2_gradients(const struct pass2_lanes_i *I, realv dwdr_r, 
 
 #ifdef SPH_ARTIFICIAL_STRESS
 /* Monaghan's (2000) term f^n (R_i + R_j) . g added to `extra`, and its
- * heating -1/2 m v_ij . (f^n (R_i + R_j) . g) to `de`. f^n by default less
- * the same weight at the pair's initial distance: zero for the undeformed
- * lattice and for pairs that separate, so the term acts against clumping
- * only and adds no traction at free surfaces (SPH_AS_LATTICE_WEIGHT keeps
- * Monaghan's original). */
-static inline void pass2_artificial_stress(const struct pass2_lanes_i *I, realv r, hreal h,
+ * heating -1/2 m v_ij . (f^n (R_i + R_j) . g) to `de`; w = W(r_ij). f^n by
+ * default less the same weight at the pair's initial distance: zero for the
+ * undeformed lattice and for pairs that separate, so the term acts against
+ * clumping only and adds no traction at free surfaces
+ * (SPH_AS_LATTICE_WEIGHT keeps Monaghan's original). */
+static inline void pass2_artificial_stress(const struct pass2_lanes_i *I, realv w, hreal inv_h,
                                            realv grad[3], realv vij[3], realv m_pair, int j,
                                            __global const vec *restrict pos0,
                                            __global const symt *restrict artificial_stress,
                                            __constant const struct sph_run_params *run,
                                            realv extra[3], realv *de)
 {
-    realv fn = artificial_stress_weight(r, h, run);
+    realv fn = artificial_stress_weight(w, run);
 #ifndef SPH_AS_LATTICE_WEIGHT
     const vec x0_j = pos0[j];
     realv d0[3];
@@ -291,9 +305,10 @@ static inline void pass2_artificial_stress(const struct pass2_lanes_i *I, realv 
     for (int a = 0; a < 3; ++a)
         d0[a] = a < SPH_DIM ? I->x0[a] - vec_get(x0_j, a) : (realv)0;
     const realv r0 = sqrt(d0[0] * d0[0] + d0[1] * d0[1] + d0[2] * d0[2]);
-    fn = fmax(fn - artificial_stress_weight(r0, h, run), (realv)0);
+    fn = fmax(fn - artificial_stress_weight(kernel_w_q(r0 * inv_h, inv_h), run), (realv)0);
 #else
     (void)pos0;
+    (void)inv_h;
 #endif
     real r_j[3][3];
     symt_load(artificial_stress[j], r_j);
@@ -309,10 +324,8 @@ static inline void pass2_artificial_stress(const struct pass2_lanes_i *I, realv 
 }
 #endif
 
-/* reads: pos, pos0, vel, rho, mass, pressure, deviatoric_stress,
- * artificial_stress, csph, sound_speed, velocity_gradient (limited),
- * av_alpha (switch); writes: acceleration, energy_rate, viscous_heating,
- * xsph_velocity. One work-item per lane block (kernels/lanes.cl). */
+/* What it reads and writes: the header above. One work-item per lane block
+ * (kernels/lanes.cl). */
 __kernel void pass2_momentum_energy(
     __global const vec *restrict pos, __global const vec *restrict pos0,
     __global const vec *restrict vel, __global const real *restrict rho,
@@ -331,33 +344,32 @@ __kernel void pass2_momentum_energy(
     LANE_PASS_CONSTANTS;
     struct pass2_lanes_i I;
     pass2_gather(&I, &b, n, pos, pos0, vel, rho, pressure, deviatoric_stress, artificial_stress,
-                 csph, sound_speed, velocity_gradient, av_alpha);
+                 csph, sound_speed, velocity_gradient, av_alpha, run);
     realv acc[3] = {(realv)0, (realv)0, (realv)0}, xsph[3] = {(realv)0, (realv)0, (realv)0};
     realv de_viscous = (realv)0, de_stress = (realv)0; /* the two artificial heatings */
     FOR_EACH_LANE_NEIGHBOUR(b, j)
     {
         realv xij[3], r2;
-#ifdef SPH_GRADED
-        const hreal h = LANE_PAIR_H(b, j), inv_h = (real)1 / h, support2 = q2 * h * h;
-#endif
+        LANE_PAIR_SUPPORT(b, j);
         const maskv near = lane_pair(I.x, pos[j], support2, xij, &r2);
         if (!lanes_any(near))
             continue;
-        const realv r = sqrt(r2), q = r * inv_h;
+        LANE_PAIR_INV_H;
+        const realv q = sqrt(r2) * inv_h;
         const vec vj = vel[j];
         realv vij[3];
 #pragma unroll
         for (int a = 0; a < 3; ++a)
             vij[a] = a < SPH_DIM ? I.v[a] - vec_get(vj, a) : (realv)0;
+        const realv vx = vij[0] * xij[0] + vij[1] * xij[1] + vij[2] * xij[2];
         PAIR_MASSES(I, j);
         const real rho_j = rho[j], m_over_rho_j = m_j / rho_j;
         const realv inv_rho_mean = (real)2 / (I.rho + rho_j);
-        const realv pi_ij = pass2_viscosity(&I, vij, xij, r, r2, h, inv_h, inv_rho_mean, j,
+        const realv pi_ij = pass2_viscosity(&I, vx, vij, xij, q, r2, h, inv_rho_mean, j,
                                             sound_speed, velocity_gradient, av_alpha, run);
-        const realv dwdr_r = SPH_SELECT((realv)0, kernel_dwdr_over_r_q(q, h), near);
+        const realv dwdr_r = SPH_SELECT((realv)0, kernel_dwdr_over_r_q(q, inv_h), near);
         /* the viscosity's heating, -1/2 m v_ij . (-Pi g): its share of de */
-        de_viscous += (real)0.5 * m_pair * pi_ij * dwdr_r *
-                      (vij[0] * xij[0] + vij[1] * xij[1] + vij[2] * xij[2]);
+        de_viscous += (real)0.5 * m_pair * pi_ij * dwdr_r * vx;
         realv grad[3], g_i[3], g_j[3];
         pass2_gradients(&I, dwdr_r, xij, csph, j, grad, g_i, g_j);
         /* (sigma_i . g_i + sigma_j . g_j) / (rho_i rho_j) and the
@@ -375,18 +387,21 @@ __kernel void pass2_momentum_energy(
             }
             extra[a] = -pi_ij * grad[a];
         }
+#if defined(SPH_ARTIFICIAL_STRESS) || defined(SPH_XSPH)
+        const realv w = kernel_w_q(q, inv_h); /* W(r_ij) */
+#endif
 #ifdef SPH_ARTIFICIAL_STRESS
-        pass2_artificial_stress(&I, r, h, grad, vij, m_pair, j, pos0, artificial_stress, run, extra,
-                                &de_stress);
+        pass2_artificial_stress(&I, w, inv_h, grad, vij, m_pair, j, pos0, artificial_stress, run,
+                                extra, &de_stress);
 #endif
 #pragma unroll
         for (int a = 0; a < SPH_DIM; ++a)
             acc[a] += m_over_rho_j * (t_i[a] + t_j[a] * I.inv_rho * at_i) + m_pair * extra[a];
 #ifdef SPH_XSPH
-        const realv w = SPH_SELECT((realv)0, kernel_w_q(q, h), near);
+        const realv w_near = SPH_SELECT((realv)0, w, near);
 #pragma unroll
         for (int a = 0; a < SPH_DIM; ++a)
-            xsph[a] -= (m_j * inv_rho_mean * w) * vij[a];
+            xsph[a] -= (m_j * inv_rho_mean * w_near) * vij[a];
 #endif
     }
     END_FOR_EACH_LANE_NEIGHBOUR
@@ -400,7 +415,7 @@ __kernel void pass2_momentum_energy(
      * exactly, so the axial momentum of target and projectile is conserved
      * (the form with sigma_rr / r and sigma_rz / r source terms of Petschek
      * & Libersky 1993 does not conserve it near the axis). */
-    acc[0] -= I.sigma[2][2] / fmax(fabs(I.x[0]), run->axis_radius);
+    acc[0] -= I.sigma[2][2] * I.inv_r;
 #endif
     for (int l = 0; l < SPH_LANES; ++l) {
         if (!lane_live(&b, l))

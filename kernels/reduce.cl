@@ -193,12 +193,10 @@ health_indicators(__global const vec *restrict pos, __global const real *restric
         if (r < (real)0.5 * dx && !(flags[i] & SPH_FLAG_DAMAGED))
             mine[SPH_HEALTH_CLUMPED] += 1;
         real sigma[3][3], normal[3];
-        symt_load(deviatoric_stress[i], sigma);
+        total_stress(pressure[i], deviatoric_stress[i], sigma);
 #pragma unroll
-        for (int a = 0; a < 3; ++a) {
-            sigma[a][a] -= pressure[i];
+        for (int a = 0; a < 3; ++a)
             normal[a] = vec_get(nearest, a) / (r * scale_i);
-        }
         real sigma_n = 0;
 #pragma unroll
         for (int a = 0; a < SPH_DIM; ++a)

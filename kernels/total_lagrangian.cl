@@ -45,15 +45,14 @@ static inline void vec_components(vec v, real out[3])
 /* Whether j (not i) is a reference neighbour of i, given X_ij = X_i - X_j;
  * if so its reference volume V0_j = m_j / rho0_j and the gradient
  * g_ij = grad_X W(|X_ij|) (with respect to X_i). */
-static inline bool tl_reference_pair(bool distinct, vec big_xij, real support2, real h,
+static inline bool tl_reference_pair(bool distinct, vec big_xij, real support2, real inv_h,
                                      real volume_j, real *volume, vec *grad)
 {
     const real r2 = dot(big_xij, big_xij);
     if (!distinct || r2 >= support2)
         return false;
-    const real r = sqrt(r2);
     *volume = volume_j;
-    *grad = (kernel_dwdr(r, h) / r) * big_xij;
+    *grad = kernel_dwdr_over_r_q(sqrt(r2) * inv_h, inv_h) * big_xij;
     return true;
 }
 
@@ -68,8 +67,7 @@ __kernel void tl_correction(__global const vec *restrict pos0, __global const re
     const int i = get_global_id(0);
     if (i >= n)
         return;
-    const real h = run->h;
-    const real support2 = run->support * run->support;
+    const real inv_h = (real)1 / run->h, support2 = run->support * run->support;
     const vec xi = pos0[i];
     real moment[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
     FOR_EACH_NEIGHBOUR_WITHIN(i, j, SPH_GRID_SPLIT)
@@ -77,8 +75,8 @@ __kernel void tl_correction(__global const vec *restrict pos0, __global const re
         const vec xij = xi - pos0[j];
         real volume;
         vec grad;
-        if (tl_reference_pair(j != i, xij, support2, h, mass[j] / materials[material[j]].density,
-                              &volume, &grad)) {
+        if (tl_reference_pair(j != i, xij, support2, inv_h,
+                              mass[j] / materials[material[j]].density, &volume, &grad)) {
             real x[3], g[3];
             vec_components(xij, x);
             vec_components(grad, g);
@@ -112,8 +110,7 @@ tl_deformation(__global const vec *restrict pos, __global const vec *restrict po
     const int i = get_global_id(0);
     if (i >= n || (flags[i] & SPH_FLAG_GHOST))
         return;
-    const real h = run->h;
-    const real support2 = run->support * run->support;
+    const real inv_h = (real)1 / run->h, support2 = run->support * run->support;
     const vec big_xi = pos0[i], xi = pos[i], wi = vel_half[i] + xsph_velocity[i];
     real sum_x[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
     real sum_w[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
@@ -121,7 +118,7 @@ tl_deformation(__global const vec *restrict pos, __global const vec *restrict po
     {
         real volume;
         vec grad;
-        if (tl_reference_pair(j != i, big_xi - pos0[j], support2, h,
+        if (tl_reference_pair(j != i, big_xi - pos0[j], support2, inv_h,
                               mass[j] / materials[material[j]].density, &volume, &grad)) {
             real x[3], w[3], g[3];
             vec_components(pos[j] - xi, x);
@@ -243,8 +240,7 @@ __kernel void tl_momentum(
     const int i = get_global_id(0);
     if (i >= n || (flags[i] & SPH_FLAG_GHOST))
         return;
-    const real h = run->h;
-    const real support2 = run->support * run->support;
+    const real h = run->h, inv_h = (real)1 / h, support2 = run->support * run->support;
     const vec big_xi = pos0[i], xi = pos[i], vi = vel[i];
     __constant const struct sph_material *mi = &materials[material[i]];
     /* hourglass stiffness alpha E / rho0_i, E = 9 K G / (3 K + G) */
@@ -264,7 +260,7 @@ __kernel void tl_momentum(
             const real r0 = sqrt(r02);
             __constant const struct sph_material *mj = &materials[material[j]];
             const real volume_j = mass[j] / mj->density;
-            const real dwdr_r = kernel_dwdr(r0, h) / r0;
+            const real dwdr_r = kernel_dwdr_over_r_q(r0 * inv_h, inv_h);
             real a_j[3][3], grad[3] = {0, 0, 0}, stress_force[3];
             fullt_load(first_piola[j], a_j);
 #pragma unroll
@@ -281,16 +277,15 @@ __kernel void tl_momentum(
             const vec xij = xi - pos[j], vij = vi - vel[j];
             const real r2 = dot(xij, xij);
             if (r2 < support2 && r2 > 0) {
-                const real r = sqrt(r2);
-                const real rho_mean = (real)0.5 * (rho[i] + rho[j]);
+                const real q = sqrt(r2) * inv_h, inv_rho_mean = (real)2 / (rho[i] + rho[j]);
                 const real pi_ij = artificial_viscosity(
                     dot(vij, xij), r2, h, (real)0.5 * (sound_speed[i] + sound_speed[j]),
-                    (real)1 / rho_mean, run->av_alpha, run->av_beta);
-                const vec visc = (-mass[j] * pi_ij * kernel_dwdr(r, h) / r) * xij;
+                    inv_rho_mean, run->av_alpha, run->av_beta);
+                const vec visc = (-mass[j] * pi_ij * kernel_dwdr_over_r_q(q, inv_h)) * xij;
                 acc_extra += visc;
                 de -= (real)0.5 * dot(vij, visc);
 #ifdef SPH_XSPH
-                xsph -= (mass[j] / rho_mean * kernel_w(r, h)) * vij;
+                xsph -= (mass[j] * inv_rho_mean * kernel_w_q(q, inv_h)) * vij;
 #endif
             }
             if (hourglass > 0) {
@@ -301,8 +296,8 @@ __kernel void tl_momentum(
 #pragma unroll
                     for (int b = 0; b < 3; ++b)
                         f_mean[a][b] = (real)0.5 * (f_mean[a][b] + f_i[a][b]);
-                const vec a_hg =
-                    tl_hourglass(-xij, -big_xij, r0, kernel_w(r0, h), f_mean, hourglass, volume_j);
+                const vec a_hg = tl_hourglass(-xij, -big_xij, r0, kernel_w_q(r0 * inv_h, inv_h),
+                                              f_mean, hourglass, volume_j);
                 acc_extra += a_hg;
                 hourglass_rate -= (real)0.5 * dot(vij, a_hg);
             }

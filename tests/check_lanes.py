@@ -10,11 +10,14 @@ column's largest magnitude (a quantity that passes through zero is judged
 against its scale, not its value near zero), and fails above RTOL; the
 Swegle fraction, a count by the sign of a stress that can sit at zero, is
 left out. Both loops run the same pair terms and sum over the neighbours
-in the same order, so on PoCL they agree to the bit; what may differ on
-another device is the compiler's contraction of vector against scalar
-arithmetic, so RTOL is a few float ulps grown over the steps.
+in the same order, so on PoCL they agree to the bit with the polynomial
+smoothing kernels; vector and scalar cos and exp (the double-cosine and
+Gaussian kernels) round differently, and another device's compiler may
+contract vector and scalar arithmetic differently, so RTOL is a few float
+ulps grown over the steps.
 """
 import csv
+import json
 import math
 import os
 import subprocess
@@ -22,6 +25,9 @@ import sys
 
 
 def run(sph, case, out, loop, sets):
+    """The run's history rows; fails unless summary.json says it ran the
+    loop asked for (1 particle per work-item for plain, 8 for lanes), so the
+    two runs cannot be one loop twice."""
     cmd = [sph, "run", case, "--out", out, "--quiet", "--set", f"numerics.neighbour_loop={loop}"]
     for s in sets:
         cmd += ["--set", s]
@@ -29,6 +35,10 @@ def run(sph, case, out, loop, sets):
     sys.stdout.write(proc.stdout + proc.stderr)
     if proc.returncode != 0:
         sys.exit(f"check_lanes: the {loop} run exited {proc.returncode}")
+    with open(os.path.join(out, "summary.json")) as f:
+        lanes = json.load(f).get("neighbour_lanes")
+    if lanes != {"plain": 1, "lanes": 8}[loop]:
+        sys.exit(f"FAIL: the {loop} run ran {lanes} particles per work-item")
     with open(os.path.join(out, "history.csv")) as f:
         return list(csv.DictReader(f))
 

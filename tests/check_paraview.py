@@ -126,6 +126,8 @@ def check(seen, seen_bodies, out):
     resolved = yaml.safe_load(open(os.path.join(out, "case.resolved.yaml")))
     projectile = resolved.get("projectile") or {}
     if projectile.get("diameter"):
+        if not blocks:
+            fail("a run with a projectile has no projectile block (bodies.xdmf)")
         centre = last.attrs["projectile_centre_m"]
         surface = np.array(blocks.pop(0)["points"])
         radius = np.linalg.norm(surface - centre, axis=1)

@@ -3,7 +3,7 @@
 
 usage: check_run.py SPH [sph arguments ...] -- [--exit N] [--stderr TEXT]
                     [--key NAME MIN MAX] [--text NAME VALUE] [--file NAME]
-                    [--contains FILE TEXT] [--first FILE COLUMN MIN MAX]
+                    [--first FILE COLUMN MIN MAX]
 """
 import csv
 import json
@@ -62,16 +62,6 @@ def main():
             elif value is not None:
                 print(f"check: {path} first-row {column} = {value:.6g} in [{low:g}, {high:g}]")
             i += 5
-        elif what == "--contains":
-            path, text = os.path.join(out, checks[i + 1]), checks[i + 2]
-            try:
-                with open(path) as f:
-                    found = text in f.read()
-            except OSError:
-                found = False
-            if not found:
-                failures.append(f"{path} lacks {text!r}")
-            i += 3
         elif what == "--text":
             key, expected = checks[i + 1], checks[i + 2]
             try:

@@ -12,6 +12,7 @@
 #include <cmocka.h>
 
 #include "device.h"
+#include "launch.h"
 #include "scene.h"
 #include "solver.h"
 
@@ -108,28 +109,16 @@ static void compare_with_brute_force(struct fixture *f)
 {
     const int n = f->s.n, w = f->c.dimension == 2 ? 2 : 4;
     const float radius = (float)f->s.run.support;
-    cl_int err = CL_SUCCESS;
-    cl_kernel k = clCreateKernel(f->dev.program, "grid_neighbour_list", &err);
-    CL_CHECK_ERR("clCreateKernel", err);
-    cl_mem count = clCreateBuffer(f->dev.context, CL_MEM_READ_WRITE, sizeof(int) * n, NULL, &err);
-    cl_mem list =
-        clCreateBuffer(f->dev.context, CL_MEM_READ_WRITE, sizeof(int) * n * MAX_LIST, NULL, &err);
-    const cl_int4 dims = {{f->s.grid.dims[0], f->s.grid.dims[1], f->s.grid.dims[2], 0}};
+    cl_kernel k = NULL;
+    const struct kernel_slot slot = {&k, "grid_neighbour_list", 0};
+    solver_kernels(&f->s, &slot, 1, 1);
+    cl_mem count = solver_create_buffer(&f->s, sizeof(int) * n);
+    cl_mem list = solver_create_buffer(&f->s, sizeof(int) * n * MAX_LIST);
     const cl_int max_list = MAX_LIST, cn = n;
-    cl_uint a = 0;
-    CL_CHECK(clSetKernelArg(k, a++, sizeof(cl_mem), &f->s.field[FIELD_POS]));
-    CL_CHECK(clSetKernelArg(k, a++, sizeof(cl_mem), &f->s.field[FIELD_ID]));
-    CL_CHECK(clSetKernelArg(k, a++, sizeof(cl_mem), &f->s.sort_keys));
-    CL_CHECK(clSetKernelArg(k, a++, sizeof(cl_mem), &f->s.cell_start));
-    CL_CHECK(clSetKernelArg(k, a++, sizeof(cl_mem), &f->s.cell_end));
-    CL_CHECK(clSetKernelArg(k, a++, sizeof dims, &dims));
-    CL_CHECK(clSetKernelArg(k, a++, sizeof radius, &radius));
-    CL_CHECK(clSetKernelArg(k, a++, sizeof(cl_mem), &count));
-    CL_CHECK(clSetKernelArg(k, a++, sizeof(cl_mem), &list));
-    CL_CHECK(clSetKernelArg(k, a++, sizeof max_list, &max_list));
-    CL_CHECK(clSetKernelArg(k, a++, sizeof cn, &cn));
-    const size_t global = (size_t)n;
-    CL_CHECK(clEnqueueNDRangeKernel(f->dev.queue, k, 1, NULL, &global, NULL, 0, NULL, NULL));
+    SET_ARGS(&f->s, k, RAW("radius", sizeof radius, &radius), MEM("count", count),
+             MEM("list", list), INT("max_list", max_list), INT("n", cn));
+    solver_launch(&f->s, k, (size_t)n, 0);
+    assert_false(cl_failed());
     int *counts = malloc(sizeof(int) * n), *lists = malloc(sizeof(int) * n * MAX_LIST);
     int *id = malloc(sizeof(int) * n), *expected = malloc(sizeof(int) * MAX_LIST);
     float *pos = malloc(sizeof(float) * w * n);
@@ -160,7 +149,7 @@ static void compare_with_brute_force(struct fixture *f)
     free(counts), free(lists), free(id), free(expected), free(pos);
     clReleaseMemObject(count);
     clReleaseMemObject(list);
-    clReleaseKernel(k);
+    solver_kernels(&f->s, &slot, 1, 0);
 }
 
 /* Moves every particle by up to 0.99 of half the skin without re-sorting. */
@@ -280,12 +269,45 @@ static void test_cell_faces_3d(void **state)
     (void)state, run_faces(3, 14);
 }
 
+/* Arguments are bound by name (host/launch.c): a value the kernel does not
+ * take, or one given for a particle field, is refused with the kernel and
+ * the argument named; the right values bind. */
+static void test_binding_by_name(void **state)
+{
+    (void)state;
+    const double xyz[] = {0, 0, 0, 1e-3, 0, 0};
+    struct fixture f;
+    setup(&f, 2, xyz, 2);
+    cl_kernel k = NULL;
+    const struct kernel_slot slot = {&k, "health_neighbour_count", 0};
+    solver_kernels(&f.s, &slot, 1, 1);
+    cl_mem counts = f.s.gather_spare;
+    SET_ARGS(&f.s, k, MEM("neighbour_count", counts), INT("n", f.s.n));
+    assert_false(cl_failed());
+    SET_ARGS(&f.s, k, MEM("neighbour_count", counts), INT("n", f.s.n), INT("bogus", f.s.n));
+    assert_non_null(
+        strstr(cl_failure(), "kernel health_neighbour_count: takes no argument `bogus`"));
+    cl_failure_clear();
+    SET_ARGS(&f.s, k, MEM("neighbour_count", counts), INT("n", f.s.n), MEM("flags", counts));
+    assert_non_null(strstr(cl_failure(), "given a value for the field or solver argument `flags`"));
+    cl_failure_clear();
+    SET_ARGS(&f.s, k, MEM("neighbour_count", counts), INT("n", f.s.n), MEM("run", counts));
+    assert_non_null(strstr(cl_failure(), "given a value for the field or solver argument `run`"));
+    cl_failure_clear();
+    SET_ARGS(&f.s, k, INT("n", f.s.n));
+    assert_non_null(strstr(cl_failure(),
+                           "no field, solver value or given value for argument `neighbour_count`"));
+    cl_failure_clear();
+    solver_kernels(&f.s, &slot, 1, 0);
+    teardown(&f);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_sort_any_count), cmocka_unit_test(test_random_2d),
         cmocka_unit_test(test_random_3d),      cmocka_unit_test(test_cell_faces_2d),
-        cmocka_unit_test(test_cell_faces_3d),
+        cmocka_unit_test(test_cell_faces_3d),  cmocka_unit_test(test_binding_by_name),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

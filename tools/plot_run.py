@@ -41,10 +41,10 @@ def read_summary(folder):
 
 def unit_for(largest, base):
     """(scale, label) putting `largest` (in SI `base` units) between 1 and 1000."""
-    for scale, prefix in [(1, ""), (1e3, "m"), (1e6, "u"), (1e9, "n")]:
-        if largest * scale >= 1 or prefix == "n":
+    for scale, prefix in [(1, ""), (1e3, "m"), (1e6, "u")]:
+        if largest * scale >= 1:
             return scale, prefix + base
-    return 1, base
+    return 1e9, "n" + base
 
 
 def plot_probe(ax, h, summary, t, probe):
