@@ -13,14 +13,16 @@ static void measure_footprint(struct impact_metrics *m, const struct sph_case *c
 {
     const double dx = c->numerics.dx;
     const struct case_wall *w = &c->walls[0];
+    const double *pos = HOST_REALS(f, FIELD_POS);
+    const int *flags = HOST_INTS(f, FIELD_FLAGS);
     double lowest = HUGE_VAL, highest = -HUGE_VAL, radius = 0;
     for (int pass = 0; pass < 2; ++pass)
         for (int p = 0; p < f->n; ++p) {
-            if (f->flags[p] & SPH_FLAG_FIXED)
+            if (flags[p] & SPH_FLAG_FIXED)
                 continue;
             double r[3], height = 0;
             for (int a = 0; a < 3; ++a) {
-                r[a] = f->pos[3 * p + a] - w->point[a];
+                r[a] = pos[3 * p + a] - w->point[a];
                 height += r[a] * w->normal[a];
             }
             if (pass == 0) {
@@ -42,11 +44,14 @@ static void measure_footprint(struct impact_metrics *m, const struct sph_case *c
 void impact_measure(struct impact_metrics *m, const struct sph_case *c, const struct host_fields *f,
                     char *damaged)
 {
+    const double *plastic_strain = HOST_REALS(f, FIELD_PLASTIC_STRAIN);
+    const double *temperature = HOST_REALS(f, FIELD_TEMPERATURE);
+    const int *flags = HOST_INTS(f, FIELD_FLAGS);
     int count = 0;
     for (int p = 0; p < f->n; ++p) {
-        m->max_plastic_strain = fmax(m->max_plastic_strain, f->plastic_strain[p]);
-        m->max_temperature = fmax(m->max_temperature, f->temperature[p]);
-        damaged[p] = (f->flags[p] & SPH_FLAG_DAMAGED) != 0;
+        m->max_plastic_strain = fmax(m->max_plastic_strain, plastic_strain[p]);
+        m->max_temperature = fmax(m->max_temperature, temperature[p]);
+        damaged[p] = (flags[p] & SPH_FLAG_DAMAGED) != 0;
         count += damaged[p];
     }
     m->damaged_fraction = fmax(m->damaged_fraction, (double)count / (f->n > 0 ? f->n : 1));

@@ -256,8 +256,8 @@ void solver_bitonic_sort(struct solver *s)
 
 void solver_gather_persistent(struct solver *s)
 {
-    for (int f = 0; f < FIELD_PERSISTENT_END; ++f) {
-        if (!solver_field_used(s, (enum field)f))
+    for (int f = 0; f < FIELD_COUNT; ++f) {
+        if (!field_table[f].persistent || !solver_field_used(s, (enum field)f))
             continue;
         const enum element_kind kind = field_table[f].kind;
         SET_ARGS(s, s->k.gather[kind], MEM("in", s->field[f]), MEM("out", s->gather_spare),

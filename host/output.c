@@ -167,38 +167,21 @@ static int write_attribute(hid_t where, const char *name, hid_t type, const void
     return bad;
 }
 
-/* The per-particle datasets of a snapshot, with their units and the XDMF
- * attribute type they are declared with. */
-struct snapshot_field {
-    const char *name, *units, *xdmf_type;
-    int components, is_int;
-};
-static const struct snapshot_field snapshot_fields[] = {
-    {"velocity", "m/s", "Vector", 3, 0},
-    {"displacement", "m", "Vector", 3, 0},
-    {"stress", "Pa (XX, YY, ZZ, XY, YZ, XZ)", "Tensor6", 6, 0},
-    {"density", "kg/m^3", "Scalar", 1, 0},
-    {"pressure", "Pa", "Scalar", 1, 0},
-    {"internal_energy", "J/kg", "Scalar", 1, 0},
-    {"von_mises_stress", "Pa", "Scalar", 1, 0},
-    {"plastic_strain", "1", "Scalar", 1, 0},
-    {"temperature", "K", "Scalar", 1, 0},
-    {"mass", "kg (2-D: per m of thickness; axisymmetric: per radian)", "Scalar", 1, 0},
-    {"smoothing_length", "m", "Scalar", 1, 0},
-    {"flags", "bit set (README)", "Scalar", 1, 1},
-    {"material", "index into materials[]", "Scalar", 1, 1},
-    {"id", "index of the particle in the scene", "Scalar", 1, 1},
-};
-#define SNAPSHOT_FIELD_COUNT (int)(sizeof snapshot_fields / sizeof snapshot_fields[0])
-
-static const void *snapshot_data(const struct host_fields *f, int k)
+/* XDMF's attribute type of a column of `components` per particle. */
+static const char *xdmf_type(int components)
 {
-    const void *data[] = {f->vel,         f->disp,   f->stress,           f->rho,
-                          f->pressure,    f->energy, f->von_mises,        f->plastic_strain,
-                          f->temperature, f->mass,   f->smoothing_length, f->flags,
-                          f->material,    f->id};
-    _Static_assert(sizeof data / sizeof data[0] == SNAPSHOT_FIELD_COUNT, "one pointer per field");
-    return data[k];
+    return components == 1 ? "Scalar" : components == 3 ? "Vector" : "Tensor6";
+}
+
+/* The columns a snapshot writes: those read (host/fields.c) that have
+ * units; remembered for the XDMF index. */
+static void note_columns(struct output *o, const struct host_fields *f)
+{
+    o->column_count = 0;
+    for (int k = 0; k < HOST_COLUMNS; ++k)
+        if (f->column[k].data && f->column[k].units)
+            o->columns[o->column_count++] = (struct snapshot_column){
+                f->column[k].name, f->column[k].components, f->column[k].is_int};
 }
 
 /* The projectile's surface at its snapshot position: a latitude-longitude
@@ -303,11 +286,12 @@ static int write_snapshot_file(const struct output *o, const char *path,
     if (file < 0)
         return 1;
     const hsize_t n = (hsize_t)f->n;
-    int bad = write_dataset(file, "position", H5T_NATIVE_DOUBLE, f->pos, n, 3, "m");
-    for (int k = 0; k < SNAPSHOT_FIELD_COUNT; ++k) {
-        const struct snapshot_field *sf = &snapshot_fields[k];
-        bad |= write_dataset(file, sf->name, sf->is_int ? H5T_NATIVE_INT : H5T_NATIVE_DOUBLE,
-                             snapshot_data(f, k), n, (hsize_t)sf->components, sf->units);
+    int bad = 0;
+    for (int k = 0; k < HOST_COLUMNS; ++k) {
+        const struct host_column *col = &f->column[k];
+        if (col->data && col->units)
+            bad |= write_dataset(file, col->name, col->is_int ? H5T_NATIVE_INT : H5T_NATIVE_DOUBLE,
+                                 col->data, n, (hsize_t)col->components, col->units);
     }
     const long long step = m->step;
     const int dim = o->dim;
@@ -347,8 +331,9 @@ static void xdmf_attribute(FILE *x, const char *file, const char *name, const ch
 /* One vertex cell per particle, its connectivity the id column (rows are in
  * id order): ParaView's default Xdmf3 reader draws a Polyvertex topology
  * only when it is given its connectivity. */
-static void xdmf_particles(FILE *x, const char *file, int n)
+static void xdmf_particles(FILE *x, const char *file, const struct output *o)
 {
+    const int n = o->particle_count;
     fprintf(x,
             "      <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"%d\" "
             "NodesPerElement=\"1\">\n",
@@ -357,9 +342,10 @@ static void xdmf_particles(FILE *x, const char *file, int n)
     fprintf(x, "      </Topology>\n      <Geometry GeometryType=\"XYZ\">\n");
     xdmf_item(x, file, "position", n, 3, 0);
     fprintf(x, "      </Geometry>\n");
-    for (int k = 0; k < SNAPSHOT_FIELD_COUNT; ++k) {
-        const struct snapshot_field *sf = &snapshot_fields[k];
-        xdmf_attribute(x, file, sf->name, sf->xdmf_type, n, sf->components, sf->is_int);
+    for (int k = 0; k < o->column_count; ++k) {
+        const struct snapshot_column *c = &o->columns[k];
+        if (strcmp(c->name, field_table[FIELD_POS].name) != 0) /* the geometry */
+            xdmf_attribute(x, file, c->name, xdmf_type(c->components), n, c->components, c->is_int);
     }
 }
 
@@ -407,7 +393,7 @@ static void xdmf_series(FILE *x, const struct output *o, const char *name, enum 
         else if (what == SERIES_WALLS)
             xdmf_walls(x, file, o);
         else
-            xdmf_particles(x, file, o->particle_count);
+            xdmf_particles(x, file, o);
         fprintf(x, "    </Grid>\n");
     }
     fprintf(x, "    </Grid>\n");
@@ -450,9 +436,10 @@ static int write_xdmf(const struct output *o)
 static void place_walls(struct output *o, const struct host_fields *f)
 {
     double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+    const double *pos = HOST_REALS(f, FIELD_POS);
     for (int i = 0; i < f->n; ++i)
         for (int a = 0; a < 3; ++a)
-            lo[a] = fmin(lo[a], f->pos[3 * i + a]), hi[a] = fmax(hi[a], f->pos[3 * i + a]);
+            lo[a] = fmin(lo[a], pos[3 * i + a]), hi[a] = fmax(hi[a], pos[3 * i + a]);
     double diagonal = 0, centre[3];
     for (int a = 0; a < 3; ++a) {
         centre[a] = f->n ? 0.5 * (lo[a] + hi[a]) : 0;
@@ -475,6 +462,7 @@ int output_snapshot(struct output *o, const struct host_fields *f, const struct 
         return 0;
     if (o->snapshot_count == 0)
         place_walls(o, f);
+    note_columns(o, f);
     char path[SPH_PATH_MAX + 64];
     snprintf(path, sizeof path, "%s/snap_%05d.h5", o->folder, o->snapshot_count);
     if (write_snapshot_file(o, path, f, meta) != 0) {
@@ -513,11 +501,36 @@ static void json_number(FILE *f, const char *key, double v, int last)
         fprintf(f, "  \"%s\": null%s\n", key, last ? "" : ",");
 }
 
+/* summary.json's projectile figures (README, outputs). */
+static void summary_projectile(FILE *f, const struct run_summary *s)
+{
+    json_number(f, "max_penetration_m", s->max_penetration_m, 0);
+    json_number(f, "time_of_max_penetration_s", s->time_of_max_penetration_s, 0);
+    json_number(f, "final_penetration_m", s->final_penetration_m, 0);
+    json_number(f, "final_projectile_velocity_m_per_s", s->final_projectile_velocity_m_per_s, 0);
+    fprintf(f, "  \"rebound\": %s,\n", s->final_projectile_velocity_m_per_s < 0 ? "true" : "false");
+    json_number(f, "max_cavity_diameter_m", s->max_cavity_diameter_m, 0);
+    json_number(f, "max_damaged_diameter_m", s->max_damaged_diameter_m, 0);
+    json_number(f, "momentum_error", s->momentum_error, 0);
+    json_number(f, "damaged_fraction", s->damaged_fraction, 0);
+    json_number(f, "max_lateral_deflection_m", s->max_lateral_deflection_m, 0);
+    json_number(f, "final_lateral_deflection_m", s->final_lateral_deflection_m, 0);
+    fprintf(f, "  \"perforated\": %s,\n", s->exit_time_s >= 0 ? "true" : "false");
+    if (s->exit_time_s >= 0) {
+        json_number(f, "exit_time_s", s->exit_time_s, 0);
+        json_number(f, "residual_velocity_m_per_s", s->final_projectile_velocity_m_per_s, 0);
+    }
+    if (s->left_fine_region_time_s >= 0)
+        json_number(f, "nose_left_fine_region_time_s", s->left_fine_region_time_s, 0);
+}
+
 int output_summary(struct output *o, const struct run_summary *s)
 {
-    char path[SPH_PATH_MAX + 64];
+    /* through a temporary name: a full disk leaves the previous file, not an empty one */
+    char path[SPH_PATH_MAX + 64], temporary[SPH_PATH_MAX + 64];
     snprintf(path, sizeof path, "%s/summary.json", o->folder);
-    FILE *f = fopen(path, "w");
+    snprintf(temporary, sizeof temporary, "%s/summary.json.tmp", o->folder);
+    FILE *f = fopen(temporary, "w");
     if (!f)
         return 1;
     fprintf(f, "{\n");
@@ -565,28 +578,8 @@ int output_summary(struct output *o, const struct run_summary *s)
         json_number(f, "first_unhealthy_time_s", s->first_unhealthy_time, 0);
         json_string(f, "unhealthy_reason", s->unhealthy_reason);
     }
-    if (s->has_projectile) {
-        json_number(f, "max_penetration_m", s->max_penetration_m, 0);
-        json_number(f, "time_of_max_penetration_s", s->time_of_max_penetration_s, 0);
-        json_number(f, "final_penetration_m", s->final_penetration_m, 0);
-        json_number(f, "final_projectile_velocity_m_per_s", s->final_projectile_velocity_m_per_s,
-                    0);
-        fprintf(f, "  \"rebound\": %s,\n",
-                s->final_projectile_velocity_m_per_s < 0 ? "true" : "false");
-        json_number(f, "max_cavity_diameter_m", s->max_cavity_diameter_m, 0);
-        json_number(f, "max_damaged_diameter_m", s->max_damaged_diameter_m, 0);
-        json_number(f, "momentum_error", s->momentum_error, 0);
-        json_number(f, "damaged_fraction", s->damaged_fraction, 0);
-        json_number(f, "max_lateral_deflection_m", s->max_lateral_deflection_m, 0);
-        json_number(f, "final_lateral_deflection_m", s->final_lateral_deflection_m, 0);
-        fprintf(f, "  \"perforated\": %s,\n", s->exit_time_s >= 0 ? "true" : "false");
-        if (s->exit_time_s >= 0) {
-            json_number(f, "exit_time_s", s->exit_time_s, 0);
-            json_number(f, "residual_velocity_m_per_s", s->final_projectile_velocity_m_per_s, 0);
-        }
-        if (s->left_fine_region_time_s >= 0)
-            json_number(f, "nose_left_fine_region_time_s", s->left_fine_region_time_s, 0);
-    }
+    if (s->has_projectile)
+        summary_projectile(f, s);
     if (s->has_plasticity) {
         json_number(f, "max_plastic_strain", s->max_plastic_strain, 0);
         json_number(f, "max_temperature_K", s->max_temperature_K, 0);
@@ -594,7 +587,12 @@ int output_summary(struct output *o, const struct run_summary *s)
     const int healthy = strcmp(s->status, "completed") == 0 &&
                         !(s->max_neighbour_loss_fraction > 0) && s->first_unhealthy_time < 0;
     fprintf(f, "  \"healthy\": %s\n}\n", healthy ? "true" : "false");
-    return fclose(f) != 0;
+    const int failed = ferror(f) | (fclose(f) != 0);
+    if (failed || rename(temporary, path) != 0) {
+        remove(temporary);
+        return 1;
+    }
+    return 0;
 }
 
 void output_close(struct output *o)

@@ -24,6 +24,11 @@ struct output {
     int wall_count;           /* walls drawn in the XDMF (a square or segment each) */
     double wall_point[SPH_MAX_WALLS][3], wall_normal[SPH_MAX_WALLS][3];
     double wall_centre[SPH_MAX_WALLS][3], wall_half_width; /* placed at the first snapshot */
+    int column_count; /* the particle datasets of a snapshot, for the XDMF index */
+    struct snapshot_column {
+        const char *name;
+        int components, is_int;
+    } columns[HOST_COLUMNS];
 };
 
 /* What a snapshot file records beside the particles. */

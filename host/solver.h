@@ -27,11 +27,8 @@ double sph_kernel_w_host(int kernel, int dim, double r, double h);
  * precision; see kernels/common.cl). */
 enum element_kind { ELEM_REAL, ELEM_INT, ELEM_VEC, ELEM_SYMT, ELEM_FULLT, ELEM_COUNT };
 
-/* Per-particle fields. Those before FIELD_PERSISTENT_END are read by some
- * stage of a step before that step writes them (the state, and the derived
- * fields rho, pressure, sound speed, artificial stress and CSPH correction
- * that one step leaves for the next step's pass 2), so every sort reorders them; the rest
- * are written before they are read within a step. */
+/* Per-particle fields: one row each of the registry, field_table
+ * (host/fields.c), which says everything the host does with a field. */
 enum field {
     FIELD_POS,
     FIELD_POS0,
@@ -56,8 +53,7 @@ enum field {
     FIELD_FIRST_PIOLA,          /* total Lagrangian only: P C^T */
     FIELD_VELOCITY_GRADIENT,    /* total Lagrangian, or the limited viscosity (pass 1 -> pass 2) */
     FIELD_AV_ALPHA,             /* the switch viscosity's alpha per particle */
-    FIELD_PERSISTENT_END,
-    FIELD_DENSITY_RATE = FIELD_PERSISTENT_END,
+    FIELD_DENSITY_RATE,
     FIELD_ACCELERATION,
     FIELD_ENERGY_RATE,
     FIELD_VISCOUS_HEATING, /* W/kg: the artificial viscosity's part of energy_rate */
@@ -70,11 +66,31 @@ enum field {
 /* How a ghost's copy of a field relates to its source's (kernels/ghost.cl). */
 enum mirror_kind { MIRROR_NONE, MIRROR_COPY, MIRROR_REFLECT, MIRROR_POSITION, MIRROR_FLAGS };
 
+/* The configurations a field exists in (solver_configuration): a field is
+ * used when its `used` mask shares a bit with the run's. */
+enum field_use {
+    USED_ALWAYS = 1 << 0,
+    USED_TOTAL_LAGRANGIAN = 1 << 1,
+    USED_CSPH = 1 << 2,
+    USED_AV_LIMITED = 1 << 3,
+    USED_AV_SWITCH = 1 << 4,
+    USED_ARTIFICIAL_STRESS = 1 << 5,
+    USED_WALLS = 1 << 6,
+};
+
 struct field_info {
-    const char *name; /* what the field is, in words (memory breakdown) */
+    const char *name; /* what the field is, in words: memory breakdown, snapshot dataset */
     const char *arg;  /* the kernels' name for it: SET_ARGS binds the field by it */
     enum element_kind kind;
-    enum mirror_kind mirror;
+    /* read by some stage of a step before that step writes it: every sort
+     * reorders it and a checkpoint holds it; the others are written before
+     * they are read within a step */
+    int persistent;
+    unsigned used;           /* configurations it exists in (enum field_use) */
+    unsigned read_across;    /* ... and those whose neighbour passes read it of a
+                                neighbour j: symmetry ghosts (and halos) carry it */
+    enum mirror_kind mirror; /* how a ghost's copy is made from its source */
+    const char *units;       /* written to snapshots with these units; NULL: not written */
 };
 extern const struct field_info field_table[FIELD_COUNT];
 
@@ -206,6 +222,8 @@ int solver_create(struct solver *s, struct sph_device *dev, const struct sph_cas
                   const struct sph_scene *scene, char *error, size_t error_size);
 void solver_release(struct solver *s);
 
+/* The run's configuration as enum field_use bits. */
+unsigned solver_configuration(const struct solver *s);
 /* Whether the formulation uses field f (others get a token buffer). */
 int solver_field_used(const struct solver *s, enum field f);
 /* Whether the ghosts must carry field f: a neighbour pass reads it of a
@@ -250,16 +268,24 @@ void solver_reduce(struct solver *s, const double load[3], struct reduction *out
 int solver_advance(struct solver *s, double dt, double dt_prev, const double load[3],
                    struct reduction *red, char *error, size_t error_size);
 
-/* Host copies of the output fields, in original particle order (by id). */
+/* Host copies of the fields a snapshot writes (field_table's units) and of
+ * what is derived from them for output, in the scene's particle order (row
+ * = id). Vectors have 3 components (z = 0 in 2-D), symmetric tensors 6 in
+ * ParaView's Tensor6 order (XX, YY, ZZ, XY, YZ, XZ). */
+enum derived_output { DERIVED_STRESS, DERIVED_VON_MISES, DERIVED_SMOOTHING_LENGTH, DERIVED_COUNT };
+#define HOST_COLUMNS                                                                               \
+    (FIELD_COUNT + DERIVED_COUNT) /* column f: field f; FIELD_COUNT + d: derived d */
+struct host_column {
+    const char *name, *units; /* units NULL: read for a derived column, not written */
+    int components, is_int;
+    void *data; /* NULL: not read (not written, or not used by this formulation) */
+};
 struct host_fields {
     int n;
-    double *pos, *vel, *disp;                                                   /* 3 per particle */
-    double *rho, *pressure, *energy, *plastic_strain, *von_mises, *temperature; /* K */
-    double *stress;           /* 6 per particle: xx, yy, zz, xy, yz, xz (ParaView's Tensor6), Pa */
-    double *mass;             /* kg (2-D: per metre of thickness; axisymmetric: per radian) */
-    double *smoothing_length; /* m */
-    int *flags, *material, *id; /* id: the particle's index in the scene (= its row) */
+    struct host_column column[HOST_COLUMNS];
 };
+#define HOST_REALS(fields, f) ((const double *)(fields)->column[f].data)
+#define HOST_INTS(fields, f) ((const int *)(fields)->column[f].data)
 int solver_read_fields(struct solver *s, struct host_fields *out);
 
 /* Symmetry-plane ghosts (host/ghost.c). solver_ghosts_setup sizes them from

@@ -6,43 +6,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-const struct field_info field_table[FIELD_COUNT] = {
-    [FIELD_POS] = {"position", "pos", ELEM_VEC, MIRROR_POSITION},
-    [FIELD_POS0] = {"initial_position", "pos0", ELEM_VEC, MIRROR_POSITION},
-    [FIELD_DISPLACEMENT] = {"displacement", "displacement", ELEM_VEC, MIRROR_REFLECT},
-    [FIELD_VEL] = {"velocity", "vel", ELEM_VEC, MIRROR_REFLECT},
-    [FIELD_VEL_HALF] = {"velocity_half_step", "vel_half", ELEM_VEC, MIRROR_REFLECT},
-    [FIELD_DENSITY_CHANGE] = {"density_change", "density_change", ELEM_REAL, MIRROR_COPY},
-    [FIELD_RHO] = {"density", "rho", ELEM_REAL, MIRROR_COPY},
-    [FIELD_ENERGY] = {"specific_internal_energy", "energy", ELEM_REAL, MIRROR_COPY},
-    [FIELD_STRESS] = {"deviatoric_stress", "deviatoric_stress", ELEM_SYMT, MIRROR_REFLECT},
-    [FIELD_PLASTIC_STRAIN] = {"plastic_strain", "plastic_strain", ELEM_REAL, MIRROR_COPY},
-    [FIELD_TEMPERATURE] = {"temperature", "temperature", ELEM_REAL, MIRROR_COPY},
-    [FIELD_MASS] = {"mass", "mass", ELEM_REAL, MIRROR_COPY},
-    [FIELD_FLAGS] = {"flags", "flags", ELEM_INT, MIRROR_FLAGS},
-    [FIELD_MATERIAL] = {"material", "material", ELEM_INT, MIRROR_COPY},
-    [FIELD_ID] = {"id", "id", ELEM_INT, MIRROR_NONE},
-    [FIELD_VELOCITY_GRADIENT] = {"velocity_gradient", "velocity_gradient", ELEM_FULLT,
-                                 MIRROR_REFLECT},
-    [FIELD_DENSITY_RATE] = {"density_rate", "density_rate", ELEM_REAL, MIRROR_NONE},
-    [FIELD_CSPH] = {"csph_correction", "csph", ELEM_SYMT, MIRROR_REFLECT}, /* symmetric: pass1.cl */
-    [FIELD_DEFORMATION_GRADIENT] = {"deformation_gradient", "deformation_gradient", ELEM_FULLT,
-                                    MIRROR_REFLECT},
-    [FIELD_FIRST_PIOLA] = {"first_piola_corrected", "first_piola", ELEM_FULLT, MIRROR_REFLECT},
-    [FIELD_PRESSURE] = {"pressure", "pressure", ELEM_REAL, MIRROR_COPY},
-    [FIELD_SOUND_SPEED] = {"sound_speed", "sound_speed", ELEM_REAL, MIRROR_COPY},
-    [FIELD_ARTIFICIAL_STRESS] = {"artificial_stress", "artificial_stress", ELEM_SYMT,
-                                 MIRROR_REFLECT},
-    [FIELD_ACCELERATION] = {"acceleration", "acceleration", ELEM_VEC, MIRROR_NONE},
-    [FIELD_ENERGY_RATE] = {"energy_rate", "energy_rate", ELEM_REAL, MIRROR_NONE},
-    [FIELD_AV_ALPHA] = {"artificial_viscosity_alpha", "av_alpha", ELEM_REAL, MIRROR_COPY},
-    [FIELD_VISCOUS_HEATING] = {"artificial_viscosity_heating", "viscous_heating", ELEM_REAL,
-                               MIRROR_NONE},
-    [FIELD_HOURGLASS_POWER] = {"hourglass_power", "hourglass_power", ELEM_REAL, MIRROR_NONE},
-    [FIELD_XSPH_VELOCITY] = {"xsph_velocity", "xsph_velocity", ELEM_VEC, MIRROR_REFLECT},
-    [FIELD_WALL_FORCE] = {"wall_force", "wall_force", ELEM_VEC, MIRROR_NONE},
-};
-
 int solver_case_graded(const struct sph_case *c)
 {
     int graded = 0;
@@ -89,53 +52,21 @@ void solver_build_options(const struct sph_case *c, char *options, size_t size)
              extra ? extra : "");
 }
 
-int solver_field_used(const struct solver *s, enum field f)
-{
-    switch (f) {
-    case FIELD_DEFORMATION_GRADIENT:
-    case FIELD_FIRST_PIOLA:
-    case FIELD_HOURGLASS_POWER:
-        return s->total_lagrangian;
-    case FIELD_CSPH: /* the total Lagrangian form keeps its correction there */
-        return s->csph || s->total_lagrangian;
-    case FIELD_VELOCITY_GRADIENT: /* the limited viscosity's reconstruction reads it in pass 2 */
-        return s->total_lagrangian || s->av_scheme == SPH_AV_LIMITED;
-    case FIELD_AV_ALPHA:
-        return s->av_scheme == SPH_AV_SWITCH;
-    case FIELD_DENSITY_RATE: /* the updated form's pass 1 uses it at once */
-        return s->total_lagrangian;
-    case FIELD_ARTIFICIAL_STRESS:
-        return s->artificial_stress;
-    case FIELD_WALL_FORCE: /* written by the kick and read by the reduction only with walls */
-        return s->wall_count > 0;
-    default:
-        return 1;
-    }
-}
-
-int solver_field_mirrored(const struct solver *s, enum field f)
-{
-    if (field_table[f].mirror == MIRROR_NONE || !solver_field_used(s, f))
-        return 0;
-    /* the total Lagrangian form's L serves the particle's own material
-     * update; only the limited viscosity reads a neighbour's (a ghost's) */
-    return f != FIELD_VELOCITY_GRADIENT || s->av_scheme == SPH_AV_LIMITED;
-}
-
-/* The largest element of the fields in use, of those before `end`: the
- * gather spare serves every persistent field's reorder. */
-static size_t largest_element(const struct solver *s, int end)
+/* The largest element of the fields in use (persistent ones only, or all). */
+static size_t largest_element(const struct solver *s, int persistent_only)
 {
     size_t largest = 0;
-    for (int f = 0; f < end; ++f)
-        if (solver_field_used(s, (enum field)f) && s->element_size[field_table[f].kind] > largest)
+    for (int f = 0; f < FIELD_COUNT; ++f)
+        if ((field_table[f].persistent || !persistent_only) &&
+            solver_field_used(s, (enum field)f) && s->element_size[field_table[f].kind] > largest)
             largest = s->element_size[field_table[f].kind];
     return largest;
 }
 
+/* The gather spare serves every persistent field's reorder. */
 size_t solver_spare_element(const struct solver *s)
 {
-    return largest_element(s, FIELD_PERSISTENT_END);
+    return largest_element(s, 1);
 }
 
 static size_t field_bytes(const struct solver *s, enum field f)
@@ -378,7 +309,7 @@ int solver_create_buffers(struct solver *s, const struct sph_case *c, const stru
                  (double)s->dev->global_memory / (1 << 30));
         return 1;
     }
-    const size_t largest = largest_element(s, FIELD_COUNT) * (size_t)s->capacity;
+    const size_t largest = largest_element(s, 0) * (size_t)s->capacity;
     if (largest > s->dev->max_allocation) {
         snprintf(error, error_size,
                  "one buffer of this case needs %.2f GiB but %s allows %.2f GiB per buffer; use a "
@@ -482,129 +413,4 @@ void solver_read_reals(struct solver *s, cl_mem m, size_t count, double *out)
         out[k] = tmp[k];
     if (tmp != small)
         free(tmp);
-}
-
-/* Reads a field as doubles, `width` reals per particle. */
-static double *read_reals(struct solver *s, enum field f, int width)
-{
-    const size_t r = s->element_size[ELEM_REAL], count = (size_t)s->n * width;
-    unsigned char *raw = CHECKED_CALLOC(count * r + 1, 1, "field read-back");
-    double *out = CHECKED_CALLOC(count + 1, sizeof(double), "field read-back");
-    if (!raw || !out) {
-        free(raw), free(out);
-        return NULL;
-    }
-    CL_CHECK(
-        clEnqueueReadBuffer(s->dev->queue, s->field[f], CL_TRUE, 0, count * r, raw, 0, NULL, NULL));
-    for (size_t k = 0; k < count; ++k) {
-        if (s->double_precision)
-            memcpy(&out[k], raw + k * r, r);
-        else {
-            float v;
-            memcpy(&v, raw + k * r, r);
-            out[k] = v;
-        }
-    }
-    free(raw);
-    return out;
-}
-
-static int *read_ints(struct solver *s, enum field f)
-{
-    int *out = CHECKED_CALLOC((size_t)s->n + 1, sizeof(int), "field read-back");
-    if (!out)
-        return NULL;
-    CL_CHECK(clEnqueueReadBuffer(s->dev->queue, s->field[f], CL_TRUE, 0,
-                                 sizeof(cl_int) * (size_t)s->n, out, 0, NULL, NULL));
-    return out;
-}
-
-/* Returns non-zero (the failure recorded, host/device.h) when host memory
- * ran out; o is then freed. */
-static int allocate_fields(struct host_fields *o, int n)
-{
-    memset(o, 0, sizeof *o);
-    o->n = n;
-    const size_t m = (size_t)n;
-    double **reals[] = {&o->rho,         &o->pressure,  &o->energy, &o->plastic_strain,
-                        &o->temperature, &o->von_mises, &o->mass,   &o->smoothing_length};
-    o->pos = CHECKED_CALLOC(m * 3, sizeof(double), "snapshot positions");
-    o->vel = CHECKED_CALLOC(m * 3, sizeof(double), "snapshot velocities");
-    o->disp = CHECKED_CALLOC(m * 3, sizeof(double), "snapshot displacements");
-    o->stress = CHECKED_CALLOC(m * 6, sizeof(double), "snapshot stresses");
-    int ok = o->pos && o->vel && o->disp && o->stress;
-    for (size_t k = 0; k < sizeof reals / sizeof reals[0]; ++k)
-        ok &= (*reals[k] = CHECKED_CALLOC(m, sizeof(double), "snapshot field")) != NULL;
-    o->flags = CHECKED_CALLOC(m, sizeof(int), "snapshot flags");
-    o->material = CHECKED_CALLOC(m, sizeof(int), "snapshot materials");
-    o->id = CHECKED_CALLOC(m, sizeof(int), "snapshot ids");
-    if (ok && o->flags && o->material && o->id)
-        return 0;
-    host_fields_free(o);
-    return 1;
-}
-
-/* Deviatoric stress (device symt: xx, yy, zz, xy, xz, yz) + pressure to the
- * full stress in ParaView's Tensor6 order (XX, YY, ZZ, XY, YZ, XZ: what its
- * Xdmf3 reader names the components), and its von Mises equivalent. */
-static void stress_to_tensor6(const double *sym, int dim, double p, double out[6], double *vm)
-{
-    const double xx = sym[0], yy = sym[1], zz = sym[2], xy = sym[3];
-    const double xz = dim == 3 ? sym[4] : 0.0, yz = dim == 3 ? sym[5] : 0.0;
-    out[0] = xx - p;
-    out[1] = yy - p;
-    out[2] = zz - p;
-    out[3] = xy;
-    out[4] = yz;
-    out[5] = xz;
-    *vm = sqrt(1.5 * (xx * xx + yy * yy + zz * zz + 2.0 * (xy * xy + xz * xz + yz * yz)));
-}
-
-int solver_read_fields(struct solver *s, struct host_fields *o)
-{
-    const int vw = s->dim == 2 ? 2 : 4, sw = s->dim == 2 ? 4 : 6;
-    double *pos = read_reals(s, FIELD_POS, vw), *pos0 = read_reals(s, FIELD_DISPLACEMENT, vw);
-    double *vel = read_reals(s, FIELD_VEL, vw), *rho = read_reals(s, FIELD_RHO, 1);
-    double *p = read_reals(s, FIELD_PRESSURE, 1), *e = read_reals(s, FIELD_ENERGY, 1);
-    double *ep = read_reals(s, FIELD_PLASTIC_STRAIN, 1), *dev = read_reals(s, FIELD_STRESS, sw);
-    double *temperature = read_reals(s, FIELD_TEMPERATURE, 1);
-    int *id = read_ints(s, FIELD_ID), *flags = read_ints(s, FIELD_FLAGS);
-    int *mat = read_ints(s, FIELD_MATERIAL);
-    double *mass = read_reals(s, FIELD_MASS, 1);
-    const int failed = !pos || !pos0 || !vel || !rho || !p || !e || !ep || !dev || !temperature ||
-                       !id || !flags || !mat || !mass || allocate_fields(o, s->n_real);
-    for (int k = 0; !failed && k < s->n; ++k) {
-        const int q = id[k]; /* back to the scene's particle order */
-        if (q >= s->n_real)
-            continue; /* a symmetry-plane ghost */
-        for (int a = 0; a < s->dim; ++a) {
-            o->pos[3 * q + a] = pos[(size_t)k * vw + a];
-            o->vel[3 * q + a] = vel[(size_t)k * vw + a];
-            o->disp[3 * q + a] = pos0[(size_t)k * vw + a];
-        }
-        o->rho[q] = rho[k];
-        o->pressure[q] = p[k];
-        o->energy[q] = e[k];
-        o->plastic_strain[q] = ep[k];
-        o->temperature[q] = temperature[k];
-        o->flags[q] = flags[k];
-        o->material[q] = mat[k];
-        o->mass[q] = mass[k];
-        o->id[q] = q;
-        /* graded lattices: a level-l particle's own h is 2^l times the fine one */
-        o->smoothing_length[q] = s->run.h * (double)(1 << SPH_LEVEL_OF(flags[k]));
-        stress_to_tensor6(&dev[(size_t)k * sw], s->dim, p[k], &o->stress[6 * q], &o->von_mises[q]);
-    }
-    free(pos), free(pos0), free(vel), free(rho), free(p), free(e), free(ep), free(dev);
-    free(temperature), free(mass);
-    free(id), free(flags), free(mat);
-    return failed;
-}
-
-void host_fields_free(struct host_fields *f)
-{
-    free(f->pos), free(f->vel), free(f->disp), free(f->stress), free(f->rho), free(f->pressure);
-    free(f->energy), free(f->plastic_strain), free(f->von_mises), free(f->flags), free(f->material);
-    free(f->temperature), free(f->mass), free(f->smoothing_length), free(f->id);
-    memset(f, 0, sizeof *f);
 }

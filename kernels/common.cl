@@ -263,6 +263,15 @@ static inline void matrix_product(real a[3][3], real b[3][3], real out[3][3])
         }
 }
 
+static inline void matrix_identity(real c[3][3])
+{
+#pragma unroll
+    for (int a = 0; a < 3; ++a)
+#pragma unroll
+        for (int e = 0; e < 3; ++e)
+            c[a][e] = a == e ? (real)1 : (real)0;
+}
+
 /* Inverse of a dim x dim matrix whose determinant is near 1 (a CSPH moment
  * matrix, a deformation gradient); falls back to the identity when the
  * determinant is below half a right-angled corner's. A moment matrix
@@ -276,11 +285,7 @@ static inline void matrix_product(real a[3][3], real b[3][3], real out[3][3])
  * drift 0.51); with this one the run's drift is 0.07. */
 static inline void matrix_invert_or_identity(real b[3][3], real c[3][3])
 {
-#pragma unroll
-    for (int a = 0; a < 3; ++a)
-#pragma unroll
-        for (int e = 0; e < 3; ++e)
-            c[a][e] = a == e ? (real)1 : (real)0;
+    matrix_identity(c);
 #if SPH_DIM == 2
     const real det = b[0][0] * b[1][1] - b[0][1] * b[1][0];
     if (fabs(det) < (real)(1.0 / 32.0))

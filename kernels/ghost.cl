@@ -97,16 +97,23 @@ __kernel void ghost_refresh_vec(__global vec *restrict field, GHOST_ARGS, const 
     field[dst] = vec_make(c[0], c[1], c[2]);
 }
 
-__kernel void ghost_refresh_symt(__global symt *restrict field, GHOST_ARGS)
+/* A tensor seen in the mirror: T_ab -> s_a s_b T_ab, s = -1 across each
+ * reflecting plane. */
+static inline void reflect_tensor(real t[3][3], int mask)
 {
-    GHOST_SLOTS;
-    real t[3][3];
-    symt_load(field[src], t);
 #pragma unroll
     for (int a = 0; a < 3; ++a)
 #pragma unroll
         for (int b = 0; b < 3; ++b)
             t[a][b] *= ghost_sign(mask, a) * ghost_sign(mask, b);
+}
+
+__kernel void ghost_refresh_symt(__global symt *restrict field, GHOST_ARGS)
+{
+    GHOST_SLOTS;
+    real t[3][3];
+    symt_load(field[src], t);
+    reflect_tensor(t, mask);
     field[dst] = symt_store(t);
 }
 
@@ -115,10 +122,6 @@ __kernel void ghost_refresh_fullt(__global fullt *restrict field, GHOST_ARGS)
     GHOST_SLOTS;
     real t[3][3];
     fullt_load(field[src], t);
-#pragma unroll
-    for (int a = 0; a < 3; ++a)
-#pragma unroll
-        for (int b = 0; b < 3; ++b)
-            t[a][b] *= ghost_sign(mask, a) * ghost_sign(mask, b);
+    reflect_tensor(t, mask);
     field[dst] = fullt_store(t);
 }

@@ -56,11 +56,7 @@ static inline void jaumann_stress_rate(real s[3][3], real d[3][3], real w[3][3],
  * columns. Six sweeps reach float round-off for any input. */
 static inline void symmetric_eigen(real t[3][3], real v[3][3])
 {
-#pragma unroll
-    for (int a = 0; a < 3; ++a)
-#pragma unroll
-        for (int b = 0; b < 3; ++b)
-            v[a][b] = a == b ? (real)1 : (real)0;
+    matrix_identity(v);
     for (int sweep = 0; sweep < 6; ++sweep)
         for (int p = 0; p < 2; ++p)
             for (int q = p + 1; q < 3; ++q) {

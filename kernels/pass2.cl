@@ -324,8 +324,56 @@ static inline void pass2_artificial_stress(const struct pass2_lanes_i *I, realv 
 }
 #endif
 
+/* The pair's stress tractions t_i = (sigma_i / rho_i) . g_i and t_j =
+ * sigma_j . g_j (the 1 / rho_i of t_j and 1 / rho_j of both are applied by
+ * the caller), sigma = S - p I. */
+static inline void pass2_tractions(const struct pass2_lanes_i *I, real pressure_j, symt dev_j,
+                                   const realv g_i[3], const realv g_j[3], realv t_i[3],
+                                   realv t_j[3])
+{
+    real sigma_j[3][3];
+    total_stress(pressure_j, dev_j, sigma_j);
+#pragma unroll
+    for (int a = 0; a < SPH_DIM; ++a) {
+        t_i[a] = t_j[a] = (realv)0;
+#pragma unroll
+        for (int c = 0; c < SPH_DIM; ++c) {
+            t_i[a] += I->sigma[a][c] * g_i[c];
+            t_j[a] += sigma_j[a][c] * g_j[c];
+        }
+    }
+}
+
+/* Each live lane's sums to its particle's acceleration, energy rate (both
+ * artificial heatings), viscous heating and XSPH velocity. */
+static inline void
+pass2_store(const struct lane_block *b, const realv acc[3], const realv xsph[3], realv de_viscous,
+            realv de_stress, __global vec *restrict acceleration,
+            __global real *restrict energy_rate, __global real *restrict viscous_heating,
+            __global vec *restrict xsph_velocity, __constant const struct sph_run_params *run)
+{
+    for (int l = 0; l < SPH_LANES; ++l) {
+        if (!lane_live(b, l))
+            continue;
+        const int i = b->first + l;
+        acceleration[i] = vec_make(lane_of(acc[0], l), lane_of(acc[1], l), lane_of(acc[2], l));
+        energy_rate[i] = lane_of(de_viscous + de_stress, l);
+        viscous_heating[i] = lane_of(de_viscous, l);
+        store_xsph(xsph_velocity, i,
+                   vec_make(lane_of(xsph[0], l), lane_of(xsph[1], l), lane_of(xsph[2], l)), run);
+    }
+}
+
 /* What it reads and writes: the header above. One work-item per lane block
- * (kernels/lanes.cl). */
+ * (kernels/lanes.cl). With SPH_AXISYMMETRIC the pair sum is the symmetric
+ * SPH form of (1 / eta) div(r sigma) with eta = rho r the ring mass per
+ * radian and unit area (sum_j m_j W_ij = eta_i): (sigma_i / r_j + sigma_j /
+ * r_i) m_j / (rho_i rho_j) . grad W. Since div sigma in (r, z) is (1 / r)
+ * div(r sigma) - sigma_tt / r e_r, only the hoop stress is left as a body
+ * force, and it is radial: the axial pair forces cancel exactly, so the
+ * axial momentum of target and projectile is conserved (the form with
+ * sigma_rr / r and sigma_rz / r source terms of Petschek & Libersky 1993
+ * does not conserve it near the axis). */
 __kernel void pass2_momentum_energy(
     __global const vec *restrict pos, __global const vec *restrict pos0,
     __global const vec *restrict vel, __global const real *restrict rho,
@@ -374,19 +422,11 @@ __kernel void pass2_momentum_energy(
         pass2_gradients(&I, dwdr_r, xij, csph, j, grad, g_i, g_j);
         /* (sigma_i . g_i + sigma_j . g_j) / (rho_i rho_j) and the
          * artificial terms (f^n (R_i + R_j) - Pi I) . g */
-        real sigma_j[3][3];
-        total_stress(pressure[j], deviatoric_stress[j], sigma_j);
         realv t_i[3], t_j[3], extra[3];
+        pass2_tractions(&I, pressure[j], deviatoric_stress[j], g_i, g_j, t_i, t_j);
 #pragma unroll
-        for (int a = 0; a < SPH_DIM; ++a) {
-            t_i[a] = t_j[a] = (realv)0;
-#pragma unroll
-            for (int c = 0; c < SPH_DIM; ++c) {
-                t_i[a] += I.sigma[a][c] * g_i[c];
-                t_j[a] += sigma_j[a][c] * g_j[c];
-            }
+        for (int a = 0; a < SPH_DIM; ++a)
             extra[a] = -pi_ij * grad[a];
-        }
 #if defined(SPH_ARTIFICIAL_STRESS) || defined(SPH_XSPH)
         const realv w = kernel_w_q(q, inv_h); /* W(r_ij) */
 #endif
@@ -406,25 +446,8 @@ __kernel void pass2_momentum_energy(
     }
     END_FOR_EACH_LANE_NEIGHBOUR
 #ifdef SPH_AXISYMMETRIC
-    /* The pair sum above is the symmetric SPH form of (1 / eta) div(r sigma)
-     * with eta = rho r the ring mass per radian and unit area
-     * (sum_j m_j W_ij = eta_i): (sigma_i / r_j + sigma_j / r_i) m_j /
-     * (rho_i rho_j) . grad W. Since div sigma in (r, z) is
-     * (1 / r) div(r sigma) - sigma_tt / r e_r, only the hoop stress is left
-     * as a body force, and it is radial: the axial pair forces cancel
-     * exactly, so the axial momentum of target and projectile is conserved
-     * (the form with sigma_rr / r and sigma_rz / r source terms of Petschek
-     * & Libersky 1993 does not conserve it near the axis). */
-    acc[0] -= I.sigma[2][2] * I.inv_r;
+    acc[0] -= I.sigma[2][2] * I.inv_r; /* the hoop stress' body force: see the header */
 #endif
-    for (int l = 0; l < SPH_LANES; ++l) {
-        if (!lane_live(&b, l))
-            continue;
-        const int i = b.first + l;
-        acceleration[i] = vec_make(lane_of(acc[0], l), lane_of(acc[1], l), lane_of(acc[2], l));
-        energy_rate[i] = lane_of(de_viscous + de_stress, l);
-        viscous_heating[i] = lane_of(de_viscous, l);
-        store_xsph(xsph_velocity, i,
-                   vec_make(lane_of(xsph[0], l), lane_of(xsph[1], l), lane_of(xsph[2], l)), run);
-    }
+    pass2_store(&b, acc, xsph, de_viscous, de_stress, acceleration, energy_rate, viscous_heating,
+                xsph_velocity, run);
 }

@@ -219,6 +219,20 @@ static inline vec tl_hourglass(vec xji, vec big_xji, real r0, real w0, real f_me
     return (coefficient * volume_j * w0 / (r0 * r0) * dot(mismatch, direction)) * direction;
 }
 
+/* tl_hourglass with the pair's mean deformation gradient (F_i + F_j) / 2. */
+static inline vec tl_pair_hourglass(const real f_i[3][3], fullt f_j, vec xij, vec big_xij, real r0,
+                                    real w0, real hourglass, real volume_j)
+{
+    real f_mean[3][3];
+    fullt_load(f_j, f_mean);
+#pragma unroll
+    for (int a = 0; a < 3; ++a)
+#pragma unroll
+        for (int b = 0; b < 3; ++b)
+            f_mean[a][b] = (real)0.5 * (f_mean[a][b] + f_i[a][b]);
+    return tl_hourglass(-xij, -big_xij, r0, w0, f_mean, hourglass, volume_j);
+}
+
 /* Pass 2 of the total Lagrangian form: stress force, artificial viscosity
  * (on the current pair geometry, as in the updated form), hourglass control,
  * XSPH. reads: pos, pos0, vel, rho, mass, first_piola, deformation_gradient,
@@ -289,15 +303,9 @@ __kernel void tl_momentum(
 #endif
             }
             if (hourglass > 0) {
-                real f_mean[3][3];
-                fullt_load(deformation_gradient[j], f_mean);
-#pragma unroll
-                for (int a = 0; a < 3; ++a)
-#pragma unroll
-                    for (int b = 0; b < 3; ++b)
-                        f_mean[a][b] = (real)0.5 * (f_mean[a][b] + f_i[a][b]);
-                const vec a_hg = tl_hourglass(-xij, -big_xij, r0, kernel_w_q(r0 * inv_h, inv_h),
-                                              f_mean, hourglass, volume_j);
+                const vec a_hg =
+                    tl_pair_hourglass(f_i, deformation_gradient[j], xij, big_xij, r0,
+                                      kernel_w_q(r0 * inv_h, inv_h), hourglass, volume_j);
                 acc_extra += a_hg;
                 hourglass_rate -= (real)0.5 * dot(vij, a_hg);
             }

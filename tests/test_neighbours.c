@@ -302,12 +302,70 @@ static void test_binding_by_name(void **state)
     teardown(&f);
 }
 
+/* The field registry is consistent: names and kernel names unique; a
+ * field read across is one that exists, and a ghost carries exactly those;
+ * a snapshot writes only fields a host column can hold, all of them state
+ * a checkpoint holds (not a step's scratch). */
+static void test_field_registry(void **state)
+{
+    (void)state;
+    for (int f = 0; f < FIELD_COUNT; ++f) {
+        const struct field_info *a = &field_table[f];
+        assert_non_null(a->name);
+        assert_non_null(a->arg);
+        assert_true(a->used != 0);
+        assert_int_equal(a->read_across & ~a->used, 0);
+        assert_int_equal(a->read_across != 0, a->mirror != MIRROR_NONE);
+        if (a->units) {
+            assert_true(a->kind != ELEM_FULLT);
+            assert_true(a->persistent);
+        }
+        for (int g = 0; g < f; ++g) {
+            assert_string_not_equal(a->name, field_table[g].name);
+            assert_string_not_equal(a->arg, field_table[g].arg);
+        }
+    }
+}
+
+/* A snapshot's host copy (host/fields.c): rows in scene order whatever the
+ * sort did, vectors padded to 3 components, the derived columns, and no
+ * column for a field this configuration lacks. */
+static void test_snapshot_columns(void **state)
+{
+    (void)state;
+    enum { N = 40 };
+    double xyz[3 * N];
+    for (int k = 0; k < 3 * N; ++k)
+        xyz[k] = 4.0 * uniform();
+    struct fixture f;
+    setup(&f, 3, xyz, N);
+    struct host_fields h;
+    assert_int_equal(solver_read_fields(&f.s, &h), 0);
+    assert_int_equal(h.n, N);
+    const double *pos = HOST_REALS(&h, FIELD_POS);
+    const double *hsml = h.column[FIELD_COUNT + DERIVED_SMOOTHING_LENGTH].data;
+    for (int q = 0; q < N; ++q) {
+        assert_int_equal(HOST_INTS(&h, FIELD_ID)[q], q);
+        for (int a = 0; a < 3; ++a)
+            assert_float_equal(pos[3 * q + a], xyz[3 * q + a], 1e-6 * 4.0);
+        assert_float_equal(hsml[q], f.s.run.h, 1e-12);
+    }
+    assert_int_equal(h.column[FIELD_POS].components, 3);
+    assert_int_equal(h.column[FIELD_COUNT + DERIVED_STRESS].components, 6);
+    assert_null(h.column[FIELD_AV_ALPHA].data);
+    assert_null(h.column[FIELD_VELOCITY_GRADIENT].data);
+    assert_null(h.column[FIELD_STRESS].units); /* read for the derived stress only */
+    host_fields_free(&h);
+    teardown(&f);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_sort_any_count), cmocka_unit_test(test_random_2d),
         cmocka_unit_test(test_random_3d),      cmocka_unit_test(test_cell_faces_2d),
         cmocka_unit_test(test_cell_faces_3d),  cmocka_unit_test(test_binding_by_name),
+        cmocka_unit_test(test_field_registry), cmocka_unit_test(test_snapshot_columns),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
