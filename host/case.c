@@ -1200,6 +1200,10 @@ static const struct schema health_schema = SCHEMA(health_fields, struct case_hea
 static const struct field output_fields[] = {
     NUMBER("snapshot_interval", struct case_output, snapshot_interval, 0, R_POSITIVE, 0, 0, 0, "s"),
     NUMBER("history_interval", struct case_output, history_interval, 0, R_POSITIVE, 0, 0, 0, "s"),
+    NUMBER("checkpoint_interval", struct case_output, checkpoint_interval, 0, R_NONNEG, 0, 0, 0,
+           "s"),
+    NUMBER("checkpoint_wall_interval", struct case_output, checkpoint_wall_interval, 0, R_NONNEG, 0,
+           0, 900, "s"),
 };
 
 static const struct field probe_fields[] = {

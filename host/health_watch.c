@@ -8,9 +8,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 
+#include "checkpoint.h"
 #include "run_parts.h"
 
-int health_watch_open(struct health_watch *h, struct solver *s)
+int health_watch_open(struct health_watch *h, struct solver *s, int count_now)
 {
     h->min_pair_distance = HUGE_VAL;
     h->first_unhealthy_time = -1;
@@ -19,8 +20,35 @@ int health_watch_open(struct health_watch *h, struct solver *s)
     h->damaged = CHECKED_CALLOC((size_t)s->n_real + 1, 1, "damage marks");
     if (!h->initial_neighbours || !h->neighbours || !h->damaged)
         return 1;
-    solver_neighbour_counts(s, h->initial_neighbours);
+    if (count_now)
+        solver_neighbour_counts(s, h->initial_neighbours);
     return 0;
+}
+
+void health_watch_save(const struct health_watch *h, int n, struct checkpoint *k)
+{
+    CHECKPOINT_PUT(k, "health.", h->min_pair_distance);
+    CHECKPOINT_PUT(k, "health.", h->max_clumped);
+    CHECKPOINT_PUT(k, "health.", h->max_swegle);
+    CHECKPOINT_PUT(k, "health.", h->first_unhealthy_time);
+    CHECKPOINT_PUT(k, "health.", h->reason);
+    CHECKPOINT_PUT(k, "health.", h->stop);
+    CHECKPOINT_PUT(k, "health.", h->max_neighbour_loss);
+    checkpoint_put(k, "health.initial_neighbours", h->initial_neighbours, sizeof(int) * (size_t)n);
+    checkpoint_put(k, "health.damaged", h->damaged, (size_t)n);
+}
+
+void health_watch_load(struct health_watch *h, int n, struct checkpoint *k)
+{
+    CHECKPOINT_GET(k, "health.", h->min_pair_distance);
+    CHECKPOINT_GET(k, "health.", h->max_clumped);
+    CHECKPOINT_GET(k, "health.", h->max_swegle);
+    CHECKPOINT_GET(k, "health.", h->first_unhealthy_time);
+    CHECKPOINT_GET(k, "health.", h->reason);
+    CHECKPOINT_GET(k, "health.", h->stop);
+    CHECKPOINT_GET(k, "health.", h->max_neighbour_loss);
+    checkpoint_get(k, "health.initial_neighbours", h->initial_neighbours, sizeof(int) * (size_t)n);
+    checkpoint_get(k, "health.damaged", h->damaged, (size_t)n);
 }
 
 void health_watch_close(struct health_watch *h)

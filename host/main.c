@@ -15,6 +15,7 @@ static const char *const usage_main =
     "\n"
     "commands:\n"
     "  run CASE    run a case file (YAML) and write a run folder\n"
+    "  resume DIR  continue an interrupted run from its folder's checkpoint\n"
     "  check CASE  validate a case file without running it\n"
     "  info        list OpenCL platforms and devices\n"
     "  bench       time a fixed suite of scenes: throughput and per-kernel profile\n"
@@ -37,7 +38,19 @@ static const char *const usage_run =
     "Writes case.resolved.yaml, snap_NNNNN.h5 + snapshots.xdmf (open in ParaView),\n"
     "history.csv and summary.json. Exit status: 0 completed, 1 bad input, 2 device\n"
     "error, 3 the run went unstable or was stopped unhealthy (health.stop; the last\n"
-    "state is still written).\n";
+    "state is still written), 130 / 143 interrupted by SIGINT / SIGTERM (Ctrl-C):\n"
+    "the step is finished and a checkpoint, a snapshot and summary.json written;\n"
+    "'sph resume DIR' goes on from there. A second signal stops at once.\n";
+
+static const char *const usage_resume =
+    "usage: sph resume RUN_DIR [--device D] [--quiet] [--profile]\n"
+    "\n"
+    "Continues the run in RUN_DIR from its checkpoint (checkpoint.h5, written every\n"
+    "output.checkpoint_interval of simulated time, every checkpoint_wall_interval of\n"
+    "wall-clock time, and on SIGINT / SIGTERM) with the folder's case.resolved.yaml;\n"
+    "history.csv, ballistics.csv and the snapshots go on from the checkpoint, and the\n"
+    "result is the same, to the bit, as a run that was never interrupted.\n"
+    "Exit status as for 'sph run'.\n";
 
 static const char *const usage_check =
     "usage: sph check CASE [--set key.path=value ...]\n"
@@ -238,6 +251,26 @@ int main(int argc, char **argv)
         char *sets[CASE_MAX_SETS];
         if (parse_options(argc - 2, argv + 2, &o, sets, 1, usage_run))
             return 1;
+        return run_case(&o);
+    }
+    if (strcmp(command, "resume") == 0) {
+        if (wants_help(argc - 2, argv + 2)) {
+            fputs(usage_resume, stdout);
+            return 0;
+        }
+        struct run_options o = {0};
+        char *sets[CASE_MAX_SETS];
+        if (parse_options(argc - 2, argv + 2, &o, sets, 1, usage_resume))
+            return 1;
+        if (o.out_dir || o.set_count) {
+            fprintf(stderr,
+                    "sph resume: no --out or --set: the run folder's case.resolved.yaml "
+                    "is the case\n\n%s",
+                    usage_resume);
+            return 1;
+        }
+        o.out_dir = o.case_path;
+        o.resume = 1;
         return run_case(&o);
     }
     if (strcmp(command, "check") == 0) {

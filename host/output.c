@@ -9,6 +9,9 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
+
+#include "checkpoint.h"
 
 int make_folders(const char *path)
 {
@@ -28,8 +31,9 @@ int make_folders(const char *path)
     return 0;
 }
 
-int output_open(struct output *o, const char *folder, const struct sph_case *c, int particles,
-                char *error, size_t error_size)
+/* What the outputs take from the case. */
+static int output_setup(struct output *o, const char *folder, const struct sph_case *c,
+                        int particles, char *error, size_t error_size)
 {
     memset(o, 0, sizeof *o);
     snprintf(o->folder, sizeof o->folder, "%s", folder);
@@ -42,6 +46,17 @@ int output_open(struct output *o, const char *folder, const struct sph_case *c, 
         memcpy(o->wall_point[w], c->walls[w].point, sizeof o->wall_point[w]);
         memcpy(o->wall_normal[w], c->walls[w].normal, sizeof o->wall_normal[w]);
     }
+    o->snapshot_times = CHECKED_CALLOC(SPH_MAX_SNAPSHOTS, sizeof(double), "snapshot index");
+    if (!o->snapshot_times)
+        return snprintf(error, error_size, "out of host memory for the snapshot index") > 0;
+    return 0;
+}
+
+int output_open(struct output *o, const char *folder, const struct sph_case *c, int particles,
+                char *error, size_t error_size)
+{
+    if (output_setup(o, folder, c, particles, error, error_size))
+        return 1;
     if (make_folders(folder) != 0) {
         snprintf(error, error_size, "cannot create the output folder %s: %s", folder,
                  strerror(errno));
@@ -70,9 +85,71 @@ int output_open(struct output *o, const char *folder, const struct sph_case *c, 
             "clumped_fraction,swegle_fraction,neighbours_min,neighbours_mean,neighbours_max,"
             "energy_error,artificial_viscosity_work_J,hourglass_work_J\n",
             o->probe_name);
-    o->snapshot_times = CHECKED_CALLOC(SPH_MAX_SNAPSHOTS, sizeof(double), "snapshot index");
-    if (!o->snapshot_times)
-        return snprintf(error, error_size, "out of host memory for the snapshot index") > 0;
+    return 0;
+}
+
+/* A CSV file of a resumed run, cut back to what it held at the checkpoint
+ * (rows written after it are written again) and opened for appending. */
+static FILE *reopen_csv(const char *folder, const char *name, long length, char *error,
+                        size_t error_size)
+{
+    char path[SPH_PATH_MAX + 64];
+    snprintf(path, sizeof path, "%s/%s", folder, name);
+    FILE *f = fopen(path, "r+");
+    if (!f || ftruncate(fileno(f), (off_t)length) != 0 || fseek(f, 0, SEEK_END) != 0 ||
+        ftell(f) != length) {
+        snprintf(error, error_size, "cannot reopen %s at the checkpoint's %ld bytes: %s", path,
+                 length, strerror(errno));
+        if (f)
+            fclose(f);
+        return NULL;
+    }
+    return f;
+}
+
+void output_checkpoint_save(struct output *o, struct checkpoint *k)
+{
+    fflush(o->history);
+    long history_bytes = ftell(o->history), ballistics_bytes = 0;
+    if (o->ballistics)
+        fflush(o->ballistics), ballistics_bytes = ftell(o->ballistics);
+    CHECKPOINT_PUT(k, "output.", history_bytes);
+    CHECKPOINT_PUT(k, "output.", ballistics_bytes);
+    CHECKPOINT_PUT(k, "output.", o->snapshot_count);
+    checkpoint_put(k, "output.snapshot_times", o->snapshot_times,
+                   sizeof(double) * (size_t)o->snapshot_count);
+    CHECKPOINT_PUT(k, "output.", o->wall_centre);
+    CHECKPOINT_PUT(k, "output.", o->wall_half_width);
+    CHECKPOINT_PUT(k, "output.", o->cavity_probes);
+}
+
+int output_resume(struct output *o, const char *folder, const struct sph_case *c, int particles,
+                  struct checkpoint *k, char *error, size_t error_size)
+{
+    if (output_setup(o, folder, c, particles, error, error_size))
+        return 1;
+    long history_bytes = 0, ballistics_bytes = 0;
+    CHECKPOINT_GET(k, "output.", history_bytes);
+    CHECKPOINT_GET(k, "output.", ballistics_bytes);
+    CHECKPOINT_GET(k, "output.", o->snapshot_count);
+    if (!k->failed && (o->snapshot_count < 1 || o->snapshot_count > SPH_MAX_SNAPSHOTS))
+        return snprintf(error, error_size, "%s: impossible snapshot count %d", k->path,
+                        o->snapshot_count) > 0;
+    checkpoint_get(k, "output.snapshot_times", o->snapshot_times,
+                   sizeof(double) * (size_t)o->snapshot_count);
+    CHECKPOINT_GET(k, "output.", o->wall_centre);
+    CHECKPOINT_GET(k, "output.", o->wall_half_width);
+    CHECKPOINT_GET(k, "output.", o->cavity_probes);
+    if (k->failed)
+        return snprintf(error, error_size, "%s", k->error) > 0;
+    o->history = reopen_csv(folder, "history.csv", history_bytes, error, error_size);
+    if (!o->history)
+        return 1;
+    if (c->projectile.enabled) {
+        o->ballistics = reopen_csv(folder, "ballistics.csv", ballistics_bytes, error, error_size);
+        if (!o->ballistics)
+            return 1;
+    }
     return 0;
 }
 

@@ -121,6 +121,14 @@ void output_ballistics(struct output *o, const struct ballistics_row *row);
 int output_summary(struct output *o, const struct run_summary *s);
 void output_close(struct output *o);
 
+/* Checkpoints (host/checkpoint.h): the snapshot index, the walls' placement
+ * and how long the CSV files were; output_resume opens a run folder again
+ * at that point (output_open's counterpart for `sph resume`). */
+struct checkpoint;
+void output_checkpoint_save(struct output *o, struct checkpoint *k);
+int output_resume(struct output *o, const char *folder, const struct sph_case *c, int particles,
+                  struct checkpoint *k, char *error, size_t error_size);
+
 /* mkdir -p */
 int make_folders(const char *path);
 

@@ -3,11 +3,13 @@
 #include "run.h"
 
 #include <math.h>
+#include <signal.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
 #include <unistd.h>
 
+#include "checkpoint.h"
 #include "device.h"
 #include "output.h"
 #include "run_parts.h"
@@ -32,6 +34,10 @@ struct loop {
     double t, dt, dt_cfl, dt_prev, dt_initial;
     long step;
     double next_history, next_snapshot, next_progress_wall, wall_start;
+    double next_checkpoint;      /* simulated s; HUGE_VAL without output.checkpoint_interval */
+    double next_checkpoint_wall; /* wall-clock s (wall_seconds) */
+    long first_step;             /* where this process began: 0, or the checkpoint's */
+    double first_t;
     double probe, window_sum, window_error_sum;
     long window_steps;
     struct energy_ledger energy;
@@ -39,7 +45,7 @@ struct loop {
     struct impact_metrics impact;
     struct ballistics_track ballistics;
     struct reduction red;
-    char message[1024];
+    char message[SPH_PATH_MAX + 512];
     const char *status;
 };
 
@@ -158,8 +164,9 @@ static void progress(struct loop *L, int final)
     if (!final && now < L->next_progress_wall)
         return;
     const double elapsed = now - L->wall_start, end = L->c->numerics.end_time;
-    const double rate = elapsed > 0 ? L->step / elapsed : 0;
-    const double eta = L->t > 0 ? elapsed * (end - L->t) / L->t : 0;
+    /* over this process's steps: a resumed run began at first_step */
+    const double rate = elapsed > 0 ? (L->step - L->first_step) / elapsed : 0;
+    const double eta = L->t > L->first_t ? elapsed * (end - L->t) / (L->t - L->first_t) : 0;
     if (L->opt->quiet)
         return;
     if (isatty(fileno(stderr))) {
@@ -241,7 +248,7 @@ static void finish_summary(struct loop *L, struct run_summary *sum)
     sum->steps = L->step;
     sum->end_time = L->t;
     sum->wall_time_s = wall;
-    sum->steps_per_s = wall > 0 ? L->step / wall : 0;
+    sum->steps_per_s = wall > 0 ? (L->step - L->first_step) / wall : 0;
     sum->bytes_per_particle = solver_bytes_per_particle(L->s);
     sum->has_probe = L->c->has_probe;
     sum->probe_name = L->c->has_probe ? L->c->probe.name : "";
@@ -335,6 +342,129 @@ static int device_failed(struct loop *L)
     return 1;
 }
 
+/* ---- checkpoints and interruption */
+
+/* The loop's own records in a checkpoint: the stepping state and each
+ * concern's plain struct (host/run_parts.h); the solver, the health watch
+ * and the outputs save their own. One list for saving and loading. */
+#define LOOP_RECORDS(X)                                                                            \
+    do {                                                                                           \
+        X(L->t);                                                                                   \
+        X(L->dt);                                                                                  \
+        X(L->dt_cfl);                                                                              \
+        X(L->dt_prev);                                                                             \
+        X(L->dt_initial);                                                                          \
+        X(L->step);                                                                                \
+        X(L->next_history);                                                                        \
+        X(L->next_snapshot);                                                                       \
+        X(L->next_checkpoint);                                                                     \
+        X(L->probe);                                                                               \
+        X(L->window_sum);                                                                          \
+        X(L->window_error_sum);                                                                    \
+        X(L->window_steps);                                                                        \
+        X(L->energy);                                                                              \
+        X(L->impact);                                                                              \
+        X(L->ballistics);                                                                          \
+        X(L->red);                                                                                 \
+    } while (0)
+
+/* The case a checkpoint belongs to: its resolved text, compared on resume. */
+static char *read_resolved_case(const char *folder, size_t *length)
+{
+    char path[SPH_PATH_MAX + 32];
+    snprintf(path, sizeof path, "%s/case.resolved.yaml", folder);
+    FILE *f = fopen(path, "rb");
+    char *text = NULL;
+    long size = -1;
+    if (f && fseek(f, 0, SEEK_END) == 0 && (size = ftell(f)) >= 0 && fseek(f, 0, SEEK_SET) == 0 &&
+        (text = CHECKED_CALLOC((size_t)size + 1, 1, "the resolved case")) &&
+        fread(text, 1, (size_t)size, f) != (size_t)size)
+        free(text), text = NULL;
+    if (f)
+        fclose(f);
+    *length = text ? (size_t)size : 0;
+    return text;
+}
+
+/* Writes RUN_DIR/checkpoint.h5 (host/checkpoint.h). A failure is reported
+ * and the run goes on: the previous checkpoint stays. */
+static int write_checkpoint(struct loop *L)
+{
+    struct checkpoint *k = CHECKED_CALLOC(1, sizeof *k, "the checkpoint");
+    size_t length = 0;
+    char *text = read_resolved_case(L->out->folder, &length);
+    int failed = !k || !text;
+    if (!failed && checkpoint_begin(k, L->out->folder) == 0) {
+        checkpoint_put(k, "case", text, length);
+        solver_checkpoint_save(L->s, k);
+#define SAVE(value) CHECKPOINT_PUT(k, "loop.", value)
+        LOOP_RECORDS(SAVE);
+#undef SAVE
+        health_watch_save(&L->health, L->s->n_real, k);
+        output_checkpoint_save(L->out, k);
+    }
+    failed = failed || cl_failed() || checkpoint_end(k);
+    if (failed && !cl_failed())
+        fprintf(stderr, "sph: checkpoint not written at t = %.6e s: %s\n", L->t,
+                k ? k->error : "out of host memory");
+    free(k);
+    free(text);
+    L->next_checkpoint_wall = wall_seconds() + L->c->output.checkpoint_wall_interval;
+    return failed;
+}
+
+static int checkpoint_due(struct loop *L)
+{
+    const struct case_output *o = &L->c->output;
+    if (L->t >= L->next_checkpoint * (1 - 1e-9)) {
+        while (L->next_checkpoint <= L->t * (1 + 1e-9))
+            L->next_checkpoint += o->checkpoint_interval;
+        return 1;
+    }
+    return o->checkpoint_wall_interval > 0 && wall_seconds() >= L->next_checkpoint_wall;
+}
+
+/* SIGINT / SIGTERM: the loop finishes its step, writes a checkpoint, a
+ * snapshot and summary.json, and exits 128 + the signal; a second signal
+ * ends the process at once. */
+static volatile sig_atomic_t interrupt_signal;
+
+static void on_interrupt(int signal_number)
+{
+    if (interrupt_signal) {
+        signal(signal_number, SIG_DFL);
+        raise(signal_number);
+        return;
+    }
+    interrupt_signal = signal_number;
+}
+
+static void catch_interrupts(int on)
+{
+    struct sigaction action;
+    memset(&action, 0, sizeof action);
+    action.sa_handler = on ? on_interrupt : SIG_DFL;
+    action.sa_flags = SA_RESTART; /* the device's and HDF5's calls go on */
+    sigemptyset(&action.sa_mask);
+    sigaction(SIGINT, &action, NULL);
+    sigaction(SIGTERM, &action, NULL);
+    if (on)
+        interrupt_signal = 0;
+}
+
+static int stop_interrupted(struct loop *L)
+{
+    const int sig = interrupt_signal;
+    const int saved = write_checkpoint(L) == 0;
+    timed_output(L, write_snapshot);
+    L->status = "interrupted";
+    snprintf(L->message, sizeof L->message, "interrupted by %s at step %ld, t = %.6e s; %s%s",
+             sig == SIGINT ? "SIGINT" : "SIGTERM", L->step, L->t,
+             saved ? "resume with: sph resume " : "no checkpoint could be written",
+             saved ? L->out->folder : "");
+    return 128 + sig;
+}
+
 static int time_loop(struct loop *L)
 {
     const struct case_output *o = &L->c->output;
@@ -372,6 +502,10 @@ static int time_loop(struct loop *L)
             if (L->health.stop)
                 return 3;
         }
+        if (interrupt_signal)
+            return stop_interrupted(L);
+        if (checkpoint_due(L))
+            write_checkpoint(L);
         progress(L, 0);
     }
     if (device_failed(L))
@@ -434,7 +568,7 @@ static int start(struct loop *L, char *error, size_t size)
     L->dt = L->dt_cfl = L->dt_initial;
     L->energy.start = total_energy(L);
     ballistics_track_start(&L->ballistics);
-    if (health_watch_open(&L->health, L->s))
+    if (health_watch_open(&L->health, L->s, 1))
         return snprintf(error, size, "out of host memory for %d particles", L->s->n_real) > 0;
     if (L->s->projectile.enabled && output_ballistics_open(L->out, &L->s->projectile, error, size))
         return 1;
@@ -445,12 +579,56 @@ static int start(struct loop *L, char *error, size_t size)
     L->energy.excursion = 0;
     L->next_history = L->c->output.history_interval;
     L->next_snapshot = L->c->output.snapshot_interval;
+    L->next_checkpoint =
+        L->c->output.checkpoint_interval > 0 ? L->c->output.checkpoint_interval : HUGE_VAL;
     if (cl_failed())
         return snprintf(error, size, "%s", cl_failure()) > 0;
     if (write_snapshot(L)) {
         snprintf(error, size, "cannot write the first snapshot into %.900s", L->out->folder);
         return 1;
     }
+    return 0;
+}
+
+/* `sph resume`: the checkpoint must belong to the folder's case. */
+static int open_checkpoint(const char *folder, struct checkpoint *k, char *error, size_t size)
+{
+    if (checkpoint_open(k, folder))
+        return snprintf(error, size, "%s", k->error) > 0;
+    size_t length = 0;
+    char *text = read_resolved_case(folder, &length);
+    const size_t saved = checkpoint_size(k, "case");
+    char *copy = text ? CHECKED_CALLOC(saved + 1, 1, "the checkpoint's case") : NULL;
+    if (copy)
+        checkpoint_get(k, "case", copy, saved);
+    const int same = copy && !k->failed && saved == length && memcmp(text, copy, length) == 0;
+    free(text);
+    free(copy);
+    if (!same)
+        return snprintf(error, size,
+                        "%s/case.resolved.yaml is not the case %s was written with (edited "
+                        "since?); restore it, or start a new run",
+                        folder, k->path) > 0;
+    return 0;
+}
+
+/* The state of the checkpoint instead of start()'s: the solver's buffers,
+ * the health watch and the loop's records. */
+static int resume_state(struct loop *L, struct checkpoint *k, char *error, size_t size)
+{
+    solver_checkpoint_load(L->s, k);
+    if (health_watch_open(&L->health, L->s, 0))
+        return snprintf(error, size, "out of host memory for %d particles", L->s->n_real) > 0;
+    health_watch_load(&L->health, L->s->n_real, k);
+#define LOAD(value) CHECKPOINT_GET(k, "loop.", value)
+    LOOP_RECORDS(LOAD);
+#undef LOAD
+    if (k->failed)
+        return snprintf(error, size, "%s", k->error) > 0;
+    if (cl_failed())
+        return snprintf(error, size, "%s", cl_failure()) > 0;
+    if (!L->opt->quiet)
+        fprintf(stderr, "sph: resuming at step %ld, t = %.6e s\n", L->step, L->t);
     return 0;
 }
 
@@ -541,6 +719,8 @@ static int run_and_report(struct loop *L, struct run_resources *r)
     if (code == 2)
         fprintf(stderr, "sph: stopped %s; what was written before is in %s\n", L->message,
                 r->folder);
+    if (code > 128)
+        fprintf(stderr, "sph: %s\n", L->message);
     print_summary_line(&sum, r->folder);
     return code;
 }
@@ -560,19 +740,56 @@ static int report_start_failure(struct loop *L, struct run_resources *r, const c
     return 2;
 }
 
+/* The run folder's outputs and the loop's first state: new (start) or from
+ * the checkpoint `k` (resume). Returns 0, or the exit status. */
+static int open_and_start(struct loop *L, struct run_resources *r, struct checkpoint *k,
+                          char *error, size_t size)
+{
+    const int particles = r->scene.count;
+    /* the folder before the solver: a case the device cannot hold (its
+     * buffers) still leaves a summary.json that says so */
+    if (k ? output_resume(&r->out, r->folder, r->c, particles, k, error, size)
+          : output_open(&r->out, r->folder, r->c, particles, error, size)) {
+        fprintf(stderr, "sph: %s\n", error);
+        return 1;
+    }
+    if (solver_create(&r->s, &r->dev, r->c, &r->scene, error, size)) {
+        const int code = report_start_failure(L, r, error);
+        return code == 1 ? 2 : code; /* a solver that cannot be made is the device's */
+    }
+    say_what_runs(L->opt, r);
+    if (k ? resume_state(L, k, error, size) : start(L, error, size))
+        return report_start_failure(L, r, error);
+    return -1; /* ready to run */
+}
+
 int run_case(const struct run_options *opt)
 {
     char error[SPH_ERROR_MAX] = "";
     struct run_resources *r = calloc(1, sizeof *r);
-    if (!r) {
+    struct checkpoint *k = opt->resume ? calloc(1, sizeof *k) : NULL;
+    if (!r || (opt->resume && !k)) {
         fprintf(stderr, "sph: out of host memory\n");
+        free(r);
         return 1;
     }
-    int code = open_run(opt, r, error, sizeof error);
+    /* sph resume RUN_DIR: the folder's resolved case, as it was */
+    char resolved[SPH_PATH_MAX + 32];
+    struct run_options options = *opt;
+    if (opt->resume) {
+        snprintf(resolved, sizeof resolved, "%s/case.resolved.yaml", opt->out_dir);
+        options.case_path = resolved;
+        options.set_count = 0;
+    }
+    int code = k && open_checkpoint(opt->out_dir, k, error, sizeof error)
+                   ? 1
+                   : open_run(&options, r, error, sizeof error);
     if (code) {
         fprintf(stderr, "sph: %s\n", error);
+        if (k)
+            checkpoint_close(k);
         close_run(r);
-        free(r);
+        free(r), free(k);
         return code;
     }
     struct loop L = {.c = r->c,
@@ -584,21 +801,18 @@ int run_case(const struct run_options *opt)
                      .wall_start = wall_seconds(),
                      .health = {.first_unhealthy_time = -1, .min_pair_distance = HUGE_VAL},
                      .ballistics = {.left_fine_time = -1, .exit_time = -1}};
-    /* the folder before the solver: a case the device cannot hold (its
-     * buffers) still leaves a summary.json that says so */
-    if (output_open(&r->out, r->folder, r->c, r->scene.count, error, sizeof error)) {
-        fprintf(stderr, "sph: %s\n", error);
-        code = 1;
-    } else if (solver_create(&r->s, &r->dev, r->c, &r->scene, error, sizeof error)) {
-        code = report_start_failure(&L, r, error);
-        code = code == 1 ? 2 : code; /* a solver that cannot be made is the device's */
-    } else {
-        say_what_runs(opt, r);
-        code = start(&L, error, sizeof error) == 0 ? run_and_report(&L, r)
-                                                   : report_start_failure(&L, r, error);
+    L.next_checkpoint_wall = L.wall_start + r->c->output.checkpoint_wall_interval;
+    code = open_and_start(&L, r, k, error, sizeof error);
+    if (k)
+        checkpoint_close(k);
+    if (code < 0) {
+        L.first_step = L.step, L.first_t = L.t;
+        catch_interrupts(1);
+        code = run_and_report(&L, r);
+        catch_interrupts(0);
     }
     health_watch_close(&L.health);
     close_run(r);
-    free(r);
+    free(r), free(k);
     return code;
 }

@@ -10,10 +10,12 @@ struct run_options {
     char **sets; /* "key.path=value" overrides */
     int quiet;
     int profile; /* per-kernel table on stdout and profile.json in the run folder */
+    int resume;  /* sph resume: out_dir is the run folder, its checkpoint the start */
 };
 
 /* Returns the process exit status: 0 completed, 1 bad input or output
- * error, 2 device or kernel build error, 3 the run went unstable. */
+ * error, 2 device or kernel build error, 3 the run went unstable, 130 / 143
+ * interrupted by SIGINT / SIGTERM (a checkpoint written). */
 int run_case(const struct run_options *opt);
 
 #endif

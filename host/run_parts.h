@@ -55,7 +55,12 @@ struct run_clock {
     long step;
     int quiet;
 };
-int health_watch_open(struct health_watch *h, struct solver *s);
+/* count_now: the initial neighbour counts from the solver (not on resume:
+ * health_watch_load gives them) */
+int health_watch_open(struct health_watch *h, struct solver *s, int count_now);
+struct checkpoint;
+void health_watch_save(const struct health_watch *h, int n, struct checkpoint *k);
+void health_watch_load(struct health_watch *h, int n, struct checkpoint *k);
 void health_watch_close(struct health_watch *h);
 /* a history row's indicators: returns non-zero (and writes `message`) when
  * the run must stop (health.stop) */

@@ -184,8 +184,10 @@ struct case_symmetry {
 };
 
 struct case_output {
-    double snapshot_interval; /* s; default end_time / 20 */
-    double history_interval;  /* s; default end_time / 1000 */
+    double snapshot_interval;        /* s; default end_time / 20 */
+    double history_interval;         /* s; default end_time / 1000 */
+    double checkpoint_interval;      /* s of simulated time between checkpoints; 0: none */
+    double checkpoint_wall_interval; /* s of wall-clock time between checkpoints; 0: none */
 };
 
 /* Thresholds past which a run is marked unhealthy (host/run.c). */

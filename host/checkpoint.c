@@ -1,0 +1,277 @@
+/* Checkpoint files (host/checkpoint.h): named byte records in HDF5, and the
+ * solver's part of them. */
+#include "checkpoint.h"
+
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static void set_names(struct checkpoint *k, const char *folder)
+{
+    memset(k, 0, sizeof *k);
+    k->file = H5I_INVALID_HID;
+    snprintf(k->path, sizeof k->path, "%s/checkpoint.h5", folder);
+    snprintf(k->temporary, sizeof k->temporary, "%s/checkpoint.h5.tmp", folder);
+}
+
+static void fail(struct checkpoint *k, const char *what, const char *name)
+{
+    if (!k->failed)
+        snprintf(k->error, sizeof k->error, "%s record '%s' of %s", what, name, k->path);
+    k->failed = 1;
+}
+
+int checkpoint_begin(struct checkpoint *k, const char *folder)
+{
+    set_names(k, folder);
+    H5E_BEGIN_TRY
+    {
+        k->file = H5Fcreate(k->temporary, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    }
+    H5E_END_TRY;
+    if (k->file < 0) {
+        snprintf(k->error, sizeof k->error, "cannot write %s", k->temporary);
+        return k->failed = 1;
+    }
+    const int format = SPH_CHECKPOINT_FORMAT;
+    CHECKPOINT_PUT(k, "", format);
+    return 0;
+}
+
+void checkpoint_put(struct checkpoint *k, const char *name, const void *data, size_t bytes)
+{
+    if (k->failed)
+        return;
+    const hsize_t count = bytes;
+    hid_t space = H5Screate_simple(1, &count, NULL), set = H5I_INVALID_HID;
+    herr_t status = -1;
+    H5E_BEGIN_TRY
+    {
+        set = H5Dcreate2(k->file, name, H5T_NATIVE_UCHAR, space, H5P_DEFAULT, H5P_DEFAULT,
+                         H5P_DEFAULT);
+        if (set >= 0)
+            status =
+                bytes ? H5Dwrite(set, H5T_NATIVE_UCHAR, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) : 0;
+    }
+    H5E_END_TRY;
+    if (set >= 0)
+        H5Dclose(set);
+    H5Sclose(space);
+    if (status < 0)
+        fail(k, "cannot write", name);
+}
+
+int checkpoint_end(struct checkpoint *k)
+{
+    const int closed = k->file >= 0 && H5Fclose(k->file) >= 0;
+    k->file = H5I_INVALID_HID;
+    if (!closed && !k->failed)
+        snprintf(k->error, sizeof k->error, "cannot complete %s", k->temporary);
+    if (closed && !k->failed && rename(k->temporary, k->path) != 0)
+        snprintf(k->error, sizeof k->error, "cannot rename %s to %s: %s", k->temporary, k->path,
+                 strerror(errno)),
+            k->failed = 1;
+    if (!closed || k->failed) {
+        remove(k->temporary); /* the previous checkpoint stays */
+        return k->failed = 1;
+    }
+    return 0;
+}
+
+int checkpoint_open(struct checkpoint *k, const char *folder)
+{
+    set_names(k, folder);
+    H5E_BEGIN_TRY
+    {
+        k->file = H5Fopen(k->path, H5F_ACC_RDONLY, H5P_DEFAULT);
+    }
+    H5E_END_TRY;
+    if (k->file < 0) {
+        snprintf(k->error, sizeof k->error,
+                 "no checkpoint in %s (checkpoint.h5 missing or unreadable); output.checkpoint_"
+                 "interval or checkpoint_wall_interval make a run write one",
+                 folder);
+        return k->failed = 1;
+    }
+    int format = 0;
+    CHECKPOINT_GET(k, "", format);
+    if (!k->failed && format != SPH_CHECKPOINT_FORMAT) {
+        snprintf(k->error, sizeof k->error, "%s has format %d; this build reads format %d", k->path,
+                 format, SPH_CHECKPOINT_FORMAT);
+        k->failed = 1;
+    }
+    return k->failed;
+}
+
+size_t checkpoint_size(struct checkpoint *k, const char *name)
+{
+    if (k->file < 0)
+        return 0;
+    hsize_t count = 0;
+    H5E_BEGIN_TRY
+    {
+        hid_t set = H5Dopen2(k->file, name, H5P_DEFAULT);
+        if (set >= 0) {
+            hid_t space = H5Dget_space(set);
+            if (H5Sget_simple_extent_ndims(space) == 1)
+                H5Sget_simple_extent_dims(space, &count, NULL);
+            H5Sclose(space);
+            H5Dclose(set);
+        }
+    }
+    H5E_END_TRY;
+    return (size_t)count;
+}
+
+void checkpoint_get(struct checkpoint *k, const char *name, void *data, size_t bytes)
+{
+    if (k->failed)
+        return;
+    if (checkpoint_size(k, name) != bytes) {
+        fail(k, "a build with other structures wrote (or the case differs in)", name);
+        return;
+    }
+    herr_t status = bytes ? -1 : 0;
+    H5E_BEGIN_TRY
+    {
+        hid_t set = H5Dopen2(k->file, name, H5P_DEFAULT);
+        if (set >= 0 && bytes)
+            status = H5Dread(set, H5T_NATIVE_UCHAR, H5S_ALL, H5S_ALL, H5P_DEFAULT, data);
+        if (set >= 0)
+            H5Dclose(set);
+    }
+    H5E_END_TRY;
+    if (status < 0)
+        fail(k, "cannot read", name);
+}
+
+void checkpoint_close(struct checkpoint *k)
+{
+    if (k->file >= 0)
+        H5Fclose(k->file);
+    k->file = H5I_INVALID_HID;
+}
+
+/* ---- the solver's records */
+
+/* The device buffers beside the fields that a step reads before writing:
+ * the sort keys (the lane loop reads them), the cell ranges, the ghosts'
+ * lists and the projectile's state. NULL where not in use. */
+struct named_buffer {
+    const char *name;
+    cl_mem *buffer;
+};
+#define SOLVER_BUFFERS(s)                                                                          \
+    {                                                                                              \
+        {"sort_keys", &(s)->sort_keys}, {"cell_start", &(s)->cell_start},                          \
+            {"cell_end", &(s)->cell_end}, {"cell_level", &(s)->cell_level},                        \
+            {"ghost_source_id", &(s)->ghosts.source_id}, {"ghost_mask", &(s)->ghosts.mask},        \
+            {"ghost_index_of_id", &(s)->ghosts.index_of_id},                                       \
+        {                                                                                          \
+            "projectile_state", &(s)->projectile.state                                             \
+        }                                                                                          \
+    }
+
+static size_t buffer_bytes(cl_mem m)
+{
+    size_t bytes = 0;
+    if (m)
+        CL_CHECK(clGetMemObjectInfo(m, CL_MEM_SIZE, sizeof bytes, &bytes, NULL));
+    return bytes;
+}
+
+static void save_buffer(struct solver *s, struct checkpoint *k, const char *name, cl_mem m,
+                        size_t bytes)
+{
+    void *host = CHECKED_CALLOC(bytes + 1, 1, "checkpoint buffer");
+    if (!host) {
+        fail(k, "out of host memory for", name);
+        return;
+    }
+    CL_CHECK(clEnqueueReadBuffer(s->dev->queue, m, CL_TRUE, 0, bytes, host, 0, NULL, NULL));
+    checkpoint_put(k, name, host, bytes);
+    free(host);
+}
+
+static void load_buffer(struct solver *s, struct checkpoint *k, const char *name, cl_mem m,
+                        size_t bytes)
+{
+    void *host = CHECKED_CALLOC(bytes + 1, 1, "checkpoint buffer");
+    if (!host) {
+        fail(k, "out of host memory for", name);
+        return;
+    }
+    checkpoint_get(k, name, host, bytes);
+    if (!k->failed)
+        CL_CHECK(clEnqueueWriteBuffer(s->dev->queue, m, CL_TRUE, 0, bytes, host, 0, NULL, NULL));
+    free(host);
+}
+
+static void field_name(char *name, size_t size, enum field f)
+{
+    snprintf(name, size, "field.%s", field_table[f].name);
+}
+
+void solver_checkpoint_save(struct solver *s, struct checkpoint *k)
+{
+    CHECKPOINT_PUT(k, "solver.", s->n);
+    CHECKPOINT_PUT(k, "solver.", s->ghosts.count);
+    CHECKPOINT_PUT(k, "solver.", s->grid);
+    CHECKPOINT_PUT(k, "solver.", s->moved_since_sort);
+    char name[128];
+    for (int f = 0; f < FIELD_COUNT; ++f)
+        if (field_table[f].persistent && solver_field_used(s, (enum field)f)) {
+            field_name(name, sizeof name, (enum field)f);
+            save_buffer(s, k, name, s->field[f],
+                        s->element_size[field_table[f].kind] * (size_t)s->n);
+        }
+    const struct named_buffer buffers[] = SOLVER_BUFFERS(s);
+    for (size_t b = 0; b < sizeof buffers / sizeof buffers[0]; ++b)
+        if (*buffers[b].buffer)
+            save_buffer(s, k, buffers[b].name, *buffers[b].buffer,
+                        buffer_bytes(*buffers[b].buffer));
+}
+
+/* The cell buffers are made at the first sort, which a resumed run does not
+ * repeat: made here at the checkpoint's size. */
+static void make_cell_buffers(struct solver *s, struct checkpoint *k)
+{
+    const size_t bytes = checkpoint_size(k, "cell_start");
+    cl_mem *cells[] = {&s->cell_start, &s->cell_end, &s->cell_level};
+    for (int c = 0; c < 3; ++c) {
+        if (*cells[c])
+            clReleaseMemObject(*cells[c]), *cells[c] = NULL;
+        if (c < 2 || s->graded)
+            *cells[c] = solver_create_buffer(s, bytes);
+    }
+}
+
+void solver_checkpoint_load(struct solver *s, struct checkpoint *k)
+{
+    CHECKPOINT_GET(k, "solver.", s->n);
+    CHECKPOINT_GET(k, "solver.", s->ghosts.count);
+    CHECKPOINT_GET(k, "solver.", s->grid);
+    CHECKPOINT_GET(k, "solver.", s->moved_since_sort);
+    if (k->failed || s->n < s->n_real || s->n > s->capacity) {
+        fail(k, "an impossible particle count in", "solver.s->n");
+        return;
+    }
+    char name[128];
+    for (int f = 0; f < FIELD_COUNT; ++f)
+        if (field_table[f].persistent && solver_field_used(s, (enum field)f)) {
+            field_name(name, sizeof name, (enum field)f);
+            load_buffer(s, k, name, s->field[f],
+                        s->element_size[field_table[f].kind] * (size_t)s->n);
+        }
+    make_cell_buffers(s, k);
+    const struct named_buffer buffers[] = SOLVER_BUFFERS(s);
+    for (size_t b = 0; b < sizeof buffers / sizeof buffers[0]; ++b) {
+        const size_t saved = checkpoint_size(k, buffers[b].name);
+        if (!*buffers[b].buffer != !saved)
+            fail(k, "a configuration with other buffers wrote", buffers[b].name);
+        else if (saved)
+            load_buffer(s, k, buffers[b].name, *buffers[b].buffer,
+                        buffer_bytes(*buffers[b].buffer));
+    }
+}

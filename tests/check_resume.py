@@ -1,0 +1,118 @@
+#!/usr/bin/env python3
+"""Checkpoints and `sph resume` (host/checkpoint.c) against a run that was
+never interrupted.
+
+usage: check_resume.py SPH CASE WORK_DIR [--set K=V ...]
+
+1. reference: CASE run to its end with output.checkpoint_interval set, so
+   the folder ends with a checkpoint part-way (checkpoints only read the
+   device, so this is also the uninterrupted run);
+2. interrupted: the same run, sent SIGINT once its history has a fifth of
+   its rows: it must exit 130 with status "interrupted" in summary.json and
+   the resume command in the message; then `sph resume` must finish it with
+   history.csv (and ballistics.csv) byte-identical to the reference and every
+   dataset of every snapshot equal;
+3. resume of the reference folder redoes the tail after its last
+   checkpoint, again identically;
+4. refusals: a folder without a checkpoint, and a case.resolved.yaml
+   edited after the checkpoint, exit 1 with a message that says so.
+"""
+import json
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import time
+
+import h5py
+import numpy as np
+
+
+def fail(message):
+    print("FAIL:", message)
+    sys.exit(1)
+
+
+def run(sph, args, expect):
+    p = subprocess.run([sph] + args, capture_output=True, text=True)
+    if p.returncode != expect:
+        fail(f"{' '.join(args)}: exit {p.returncode}, expected {expect}\n{p.stderr[-2000:]}")
+    return p
+
+
+def rows(path):
+    with open(path) as f:
+        return sum(1 for _ in f)
+
+
+def same_outputs(a, b, what):
+    for name in ("history.csv", "ballistics.csv", "snapshots.xdmf"):
+        pa, pb = os.path.join(a, name), os.path.join(b, name)
+        if os.path.exists(pa) != os.path.exists(pb):
+            fail(f"{what}: {name} in one folder only")
+        if os.path.exists(pa) and open(pa, "rb").read() != open(pb, "rb").read():
+            fail(f"{what}: {name} differs from the uninterrupted run")
+    snaps = sorted(f for f in os.listdir(a) if f.startswith("snap_"))
+    if snaps != sorted(f for f in os.listdir(b) if f.startswith("snap_")):
+        fail(f"{what}: other snapshot files")
+    for s in snaps:
+        with h5py.File(os.path.join(a, s)) as fa, h5py.File(os.path.join(b, s)) as fb:
+            for k in fa:
+                if isinstance(fa[k], h5py.Dataset) and not np.array_equal(
+                        fa[k][()], fb[k][()], equal_nan=True):
+                    fail(f"{what}: {s}:{k} differs")
+    print(f"{what}: history, snapshots ({len(snaps)}) identical")
+
+
+def main():
+    sph, case, work = sys.argv[1], sys.argv[2], sys.argv[3]
+    sets = sys.argv[4:]
+    shutil.rmtree(work, ignore_errors=True)
+    os.makedirs(work)
+    ref, cut = os.path.join(work, "reference"), os.path.join(work, "interrupted")
+    run(sph, ["run", case, "--out", ref, "--quiet"] + sets, 0)
+    total = rows(os.path.join(ref, "history.csv"))
+
+    env = dict(os.environ)
+    p = subprocess.Popen([sph, "run", case, "--out", cut, "--quiet"] + sets, env=env,
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    history = os.path.join(cut, "history.csv")
+    deadline = time.time() + 600
+    while p.poll() is None and time.time() < deadline:
+        if os.path.exists(history) and rows(history) > total // 5:
+            p.send_signal(signal.SIGINT)
+            break
+        time.sleep(0.05)
+    out, err = p.communicate()
+    if p.returncode != 130:
+        fail(f"interrupted run: exit {p.returncode}, expected 130\n{err[-2000:]}")
+    summary = json.load(open(os.path.join(cut, "summary.json")))
+    if summary["status"] != "interrupted" or "sph resume" not in summary["message"]:
+        fail(f"interrupted run: summary status {summary['status']!r}, message "
+             f"{summary['message']!r}")
+    print(f"interrupted at step {summary['steps']} of the reference's "
+          f"{json.load(open(os.path.join(ref, 'summary.json')))['steps']}: exit 130")
+    run(sph, ["resume", cut, "--quiet"], 0)
+    same_outputs(ref, cut, "interrupted and resumed")
+
+    again = os.path.join(work, "again")
+    shutil.copytree(ref, again)
+    run(sph, ["resume", again, "--quiet"], 0)
+    same_outputs(ref, again, "resumed from the last checkpoint")
+
+    empty = os.path.join(work, "empty")
+    os.makedirs(empty)
+    p = run(sph, ["resume", empty], 1)
+    if "no checkpoint" not in p.stderr:
+        fail(f"resume without a checkpoint: {p.stderr!r}")
+    with open(os.path.join(again, "case.resolved.yaml"), "a") as f:
+        f.write("# edited\n")
+    p = run(sph, ["resume", again], 1)
+    if "is not the case" not in p.stderr:
+        fail(f"resume of an edited case: {p.stderr!r}")
+    print("refusals: no checkpoint, edited case: exit 1 with the reason")
+
+
+if __name__ == "__main__":
+    main()
