@@ -1,4 +1,6 @@
 /* The `sph` command: run, check, info. */
+#include <hdf5.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -232,6 +234,13 @@ static int command_check(int argc, char **argv)
 
 int main(int argc, char **argv)
 {
+    /* past a file size limit a write fails (EFBIG) and the run says so,
+     * instead of being killed without a word */
+    signal(SIGXFSZ, SIG_IGN);
+    /* HDF5's exit handler closes what is still open, and crashes on a file
+     * whose close failed (a full disk: the flush fails and the file stays
+     * open). Every file this program opens is closed on its own paths. */
+    H5dont_atexit();
     if (argc < 2) {
         fputs(usage_main, stderr);
         return 1;

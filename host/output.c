@@ -31,6 +31,24 @@ int make_folders(const char *path)
     return 0;
 }
 
+FILE *output_file_begin(const char *path, char *temporary, size_t size)
+{
+    const char *slash = strrchr(path, '/');
+    const int folder = slash ? (int)(slash - path + 1) : 0;
+    snprintf(temporary, size, "%.*s.%s.tmp", folder, path, path + folder);
+    return fopen(temporary, "w");
+}
+
+int output_file_commit(FILE *f, const char *temporary, const char *path)
+{
+    const int failed = ferror(f) | (fclose(f) != 0);
+    if (failed || rename(temporary, path) != 0) {
+        remove(temporary);
+        return 1;
+    }
+    return 0;
+}
+
 /* What the outputs take from the case. */
 static int output_setup(struct output *o, const char *folder, const struct sph_case *c,
                         int particles, char *error, size_t error_size)
@@ -55,6 +73,7 @@ static int output_setup(struct output *o, const char *folder, const struct sph_c
 int output_open(struct output *o, const char *folder, const struct sph_case *c, int particles,
                 char *error, size_t error_size)
 {
+    H5Eset_auto2(H5E_DEFAULT, NULL, NULL); /* our messages name the file and the cause */
     if (output_setup(o, folder, c, particles, error, error_size))
         return 1;
     if (make_folders(folder) != 0) {
@@ -62,16 +81,13 @@ int output_open(struct output *o, const char *folder, const struct sph_case *c, 
                  strerror(errno));
         return 1;
     }
-    char path[SPH_PATH_MAX + 64];
+    char path[SPH_PATH_MAX + 64], temporary[SPH_PATH_MAX + 80];
     snprintf(path, sizeof path, "%s/case.resolved.yaml", folder);
-    FILE *f = fopen(path, "w");
-    if (!f || case_write_resolved(c, f) != 0) {
+    FILE *f = output_file_begin(path, temporary, sizeof temporary);
+    if (!f || (case_write_resolved(c, f) != 0) | output_file_commit(f, temporary, path)) {
         snprintf(error, error_size, "cannot write %s: %s", path, strerror(errno));
-        if (f)
-            fclose(f);
         return 1;
     }
-    fclose(f);
     snprintf(path, sizeof path, "%s/history.csv", folder);
     o->history = fopen(path, "w");
     if (!o->history) {
@@ -359,7 +375,12 @@ static int write_walls(hid_t file, const struct output *o)
 static int write_snapshot_file(const struct output *o, const char *path,
                                const struct host_fields *f, const struct snapshot_meta *m)
 {
-    hid_t file = H5Fcreate(path, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    /* a failed write still closes every object (strong close degree), so
+     * nothing is left open for HDF5's exit handler */
+    hid_t access = H5Pcreate(H5P_FILE_ACCESS);
+    H5Pset_fclose_degree(access, H5F_CLOSE_STRONG);
+    hid_t file = H5Fcreate(path, H5F_ACC_TRUNC, H5P_DEFAULT, access);
+    H5Pclose(access);
     if (file < 0)
         return 1;
     const hsize_t n = (hsize_t)f->n;
@@ -482,10 +503,9 @@ static void xdmf_series(FILE *x, const struct output *o, const char *name, enum 
  * not drawn in colour at all (ParaView 5.11). */
 static int write_xdmf_file(const struct output *o, const char *name, int bodies)
 {
-    char path[SPH_PATH_MAX + 64], tmp[SPH_PATH_MAX + 64];
+    char path[SPH_PATH_MAX + 64], tmp[SPH_PATH_MAX + 80];
     snprintf(path, sizeof path, "%s/%s", o->folder, name);
-    snprintf(tmp, sizeof tmp, "%s/.%s.tmp", o->folder, name);
-    FILE *x = fopen(tmp, "w");
+    FILE *x = output_file_begin(path, tmp, sizeof tmp);
     if (!x)
         return 1;
     fprintf(x, "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n  <Domain>\n");
@@ -496,9 +516,7 @@ static int write_xdmf_file(const struct output *o, const char *name, int bodies)
     if (bodies && o->wall_count > 0)
         xdmf_series(x, o, "walls", SERIES_WALLS);
     fprintf(x, "  </Domain>\n</Xdmf>\n");
-    if (fclose(x) != 0)
-        return 1;
-    return rename(tmp, path) != 0;
+    return output_file_commit(x, tmp, path);
 }
 
 static int write_xdmf(const struct output *o)
@@ -540,10 +558,13 @@ int output_snapshot(struct output *o, const struct host_fields *f, const struct 
     if (o->snapshot_count == 0)
         place_walls(o, f);
     note_columns(o, f);
-    char path[SPH_PATH_MAX + 64];
+    char path[SPH_PATH_MAX + 64], temporary[SPH_PATH_MAX + 80];
     snprintf(path, sizeof path, "%s/snap_%05d.h5", o->folder, o->snapshot_count);
-    if (write_snapshot_file(o, path, f, meta) != 0) {
-        snprintf(error, error_size, "cannot write snapshot %s", path);
+    snprintf(temporary, sizeof temporary, "%s/.snap_%05d.h5.tmp", o->folder, o->snapshot_count);
+    if (write_snapshot_file(o, temporary, f, meta) != 0 || rename(temporary, path) != 0) {
+        remove(temporary);
+        snprintf(error, error_size, "cannot write snapshot %s (disk full, or a file size limit?)",
+                 path);
         return 1;
     }
     o->snapshot_times[o->snapshot_count++] = meta->time;
@@ -552,9 +573,12 @@ int output_snapshot(struct output *o, const struct host_fields *f, const struct 
                  strerror(errno));
         return 1;
     }
-    fflush(o->history);
-    if (o->ballistics)
-        fflush(o->ballistics);
+    if (fflush(o->history) != 0 || ferror(o->history) ||
+        (o->ballistics && (fflush(o->ballistics) != 0 || ferror(o->ballistics)))) {
+        snprintf(error, error_size, "cannot write %s/history.csv or ballistics.csv: %s", o->folder,
+                 strerror(errno));
+        return 1;
+    }
     return 0;
 }
 
@@ -604,10 +628,9 @@ static void summary_projectile(FILE *f, const struct run_summary *s)
 int output_summary(struct output *o, const struct run_summary *s)
 {
     /* through a temporary name: a full disk leaves the previous file, not an empty one */
-    char path[SPH_PATH_MAX + 64], temporary[SPH_PATH_MAX + 64];
+    char path[SPH_PATH_MAX + 64], temporary[SPH_PATH_MAX + 80];
     snprintf(path, sizeof path, "%s/summary.json", o->folder);
-    snprintf(temporary, sizeof temporary, "%s/summary.json.tmp", o->folder);
-    FILE *f = fopen(temporary, "w");
+    FILE *f = output_file_begin(path, temporary, sizeof temporary);
     if (!f)
         return 1;
     fprintf(f, "{\n");
@@ -664,12 +687,7 @@ int output_summary(struct output *o, const struct run_summary *s)
     const int healthy = strcmp(s->status, "completed") == 0 &&
                         !(s->max_neighbour_loss_fraction > 0) && s->first_unhealthy_time < 0;
     fprintf(f, "  \"healthy\": %s\n}\n", healthy ? "true" : "false");
-    const int failed = ferror(f) | (fclose(f) != 0);
-    if (failed || rename(temporary, path) != 0) {
-        remove(temporary);
-        return 1;
-    }
-    return 0;
+    return output_file_commit(f, temporary, path);
 }
 
 void output_close(struct output *o)

@@ -129,6 +129,13 @@ void output_checkpoint_save(struct output *o, struct checkpoint *k);
 int output_resume(struct output *o, const char *folder, const struct sph_case *c, int particles,
                   struct checkpoint *k, char *error, size_t error_size);
 
+/* A file written through a temporary name (.NAME.tmp beside it) and renamed
+ * when complete, so a full disk or a crash leaves the previous file, never
+ * a truncated one: begin, write, commit (non-zero: not written, the
+ * temporary removed). */
+FILE *output_file_begin(const char *path, char *temporary, size_t size);
+int output_file_commit(FILE *f, const char *temporary, const char *path);
+
 /* mkdir -p */
 int make_folders(const char *path);
 

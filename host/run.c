@@ -37,6 +37,7 @@ struct loop {
     double next_checkpoint;      /* simulated s; HUGE_VAL without output.checkpoint_interval */
     double next_checkpoint_wall; /* wall-clock s (wall_seconds) */
     long first_step;             /* where this process began: 0, or the checkpoint's */
+    long raise_at_step;          /* SPH_RAISE_AT_STEP=N: SIGINT after step N (tests); else -1 */
     double first_t;
     double probe, window_sum, window_error_sum;
     long window_steps;
@@ -150,8 +151,12 @@ static int write_snapshot(struct loop *L)
     const int status = output_snapshot(L->out, &f, &meta, error, sizeof error);
     impact_measure(&L->impact, L->c, &f, L->health.damaged);
     host_fields_free(&f);
-    if (status)
+    if (status) {
         fprintf(stderr, "sph: %s\n", error);
+        snprintf(L->message, sizeof L->message, "at step %ld, t = %.6e s: %s", L->step, L->t,
+                 error);
+        return status;
+    }
     health_watch_integrity(&L->health, L->s, L->c, clock_of(L), L->message, sizeof L->message);
     if (L->health.stop)
         L->status = "unhealthy";
@@ -493,15 +498,16 @@ static int time_loop(struct loop *L)
             }
         }
         if (L->t >= L->next_snapshot * (1 - 1e-9)) {
-            if (timed_output(L, write_snapshot)) {
+            if (timed_output(L, write_snapshot)) { /* the message says what failed */
                 L->status = "output_error";
-                snprintf(L->message, sizeof L->message, "a snapshot could not be written");
                 return 1;
             }
             L->next_snapshot += o->snapshot_interval;
             if (L->health.stop)
                 return 3;
         }
+        if (L->step == L->raise_at_step) /* SPH_RAISE_AT_STEP: tests' Ctrl-C */
+            raise(SIGINT);
         if (interrupt_signal)
             return stop_interrupted(L);
         if (checkpoint_due(L))
@@ -585,6 +591,7 @@ static int start(struct loop *L, char *error, size_t size)
         return snprintf(error, size, "%s", cl_failure()) > 0;
     if (write_snapshot(L)) {
         snprintf(error, size, "cannot write the first snapshot into %.900s", L->out->folder);
+        L->status = "output_error";
         return 1;
     }
     return 0;
@@ -730,14 +737,17 @@ static int run_and_report(struct loop *L, struct run_resources *r)
 static int report_start_failure(struct loop *L, struct run_resources *r, const char *error)
 {
     fprintf(stderr, "sph: %s\n", error);
-    if (!cl_failed() || !r->out.history)
+    const int device = cl_failed();
+    if (!r->out.history || (!device && strcmp(L->status, "output_error") != 0))
         return 1;
-    L->status = cl_failure_status();
-    snprintf(L->message, sizeof L->message, "before the first step: %s", cl_failure());
+    if (device)
+        L->status = cl_failure_status();
+    snprintf(L->message, sizeof L->message, "before the first step: %s",
+             device ? cl_failure() : error);
     struct run_summary sum;
     finish_summary(L, &sum);
     output_summary(&r->out, &sum);
-    return 2;
+    return device ? 2 : 1;
 }
 
 /* The run folder's outputs and the loop's first state: new (start) or from
@@ -807,6 +817,8 @@ int run_case(const struct run_options *opt)
         checkpoint_close(k);
     if (code < 0) {
         L.first_step = L.step, L.first_t = L.t;
+        const char *raise_at = getenv("SPH_RAISE_AT_STEP");
+        L.raise_at_step = raise_at ? atol(raise_at) : -1;
         catch_interrupts(1);
         code = run_and_report(&L, r);
         catch_interrupts(0);

@@ -151,7 +151,9 @@ static inline void plastic_correction(__constant const struct sph_material *m, r
     for (int k = 0; k < 9; ++k)
         s[k / 3][k % 3] = flat[k];
     *plastic_strain += increment;
-    if (m->strength == SPH_STRENGTH_JOHNSON_COOK)
+    /* without a heat capacity (a Johnson-Cook law with m = 0 needs none)
+     * the temperature stays at T_room, as README says */
+    if (m->strength == SPH_STRENGTH_JOHNSON_COOK && m->heat_capacity > 0)
         *temperature += m->taylor_quinney * yield * increment / (density * m->heat_capacity);
 }
 #endif

@@ -2,13 +2,14 @@
 """Checkpoints and `sph resume` (host/checkpoint.c) against a run that was
 never interrupted.
 
-usage: check_resume.py SPH CASE WORK_DIR [--set K=V ...]
+usage: check_resume.py SPH CASE WORK_DIR [--raise-at-step N] [--set K=V ...]
 
 1. reference: CASE run to its end with output.checkpoint_interval set, so
    the folder ends with a checkpoint part-way (checkpoints only read the
    device, so this is also the uninterrupted run);
 2. interrupted: the same run, sent SIGINT once its history has a fifth of
-   its rows: it must exit 130 with status "interrupted" in summary.json and
+   its rows (or, with --raise-at-step, raising SIGINT itself after step N:
+   SPH_RAISE_AT_STEP, for runs too short to catch from outside): it must exit 130 with status "interrupted" in summary.json and
    the resume command in the message; then `sph resume` must finish it with
    history.csv (and ballistics.csv) byte-identical to the reference and every
    dataset of every snapshot equal;
@@ -68,6 +69,9 @@ def same_outputs(a, b, what):
 def main():
     sph, case, work = sys.argv[1], sys.argv[2], sys.argv[3]
     sets = sys.argv[4:]
+    raise_at = None
+    if sets[:1] == ["--raise-at-step"]:
+        raise_at, sets = sets[1], sets[2:]
     shutil.rmtree(work, ignore_errors=True)
     os.makedirs(work)
     ref, cut = os.path.join(work, "reference"), os.path.join(work, "interrupted")
@@ -75,12 +79,14 @@ def main():
     total = rows(os.path.join(ref, "history.csv"))
 
     env = dict(os.environ)
+    if raise_at:
+        env["SPH_RAISE_AT_STEP"] = raise_at
     p = subprocess.Popen([sph, "run", case, "--out", cut, "--quiet"] + sets, env=env,
                          stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     history = os.path.join(cut, "history.csv")
     deadline = time.time() + 600
     while p.poll() is None and time.time() < deadline:
-        if os.path.exists(history) and rows(history) > total // 5:
+        if not raise_at and os.path.exists(history) and rows(history) > total // 5:
             p.send_signal(signal.SIGINT)
             break
         time.sleep(0.05)
