@@ -10,6 +10,7 @@
  */
 #include <ctype.h>
 #include <errno.h>
+#include <float.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -808,11 +809,17 @@ static int check_load(struct ctx *x, const struct frame *fr, void *base)
 static int check_wall(struct ctx *x, const struct frame *fr, void *base)
 {
     struct case_wall *w = base;
-    double norm = 0;
+    /* scaled by the largest component first: the squares of [1e308, ...]
+     * overflow, of [1e-200, ...] underflow */
+    double largest = 0, norm = 0;
+    for (int a = 0; a < 3; ++a)
+        largest = fmax(largest, fabs(w->normal[a]));
+    for (int a = 0; a < 3 && largest > 0; ++a)
+        w->normal[a] /= largest;
     for (int a = 0; a < 3; ++a)
         norm += w->normal[a] * w->normal[a];
     norm = sqrt(norm);
-    if (!(norm > 0))
+    if (!(norm > 0) || !isfinite(norm))
         return fail(x, line_of(fr, "normal"), subkey(x, "normal"), "expected a non-zero vector");
     for (int a = 0; a < 3; ++a)
         w->normal[a] /= norm;
@@ -838,6 +845,23 @@ static int check_output(struct ctx *x, const struct frame *fr, void *base)
         o->snapshot_interval = x->c->numerics.end_time / 20;
     if (!given(fr, "history_interval"))
         o->history_interval = x->c->numerics.end_time / 1000;
+    /* a typo in an interval would write a file every step */
+    const double end = x->c->numerics.end_time;
+    const struct {
+        const char *key;
+        double interval, most;
+        const char *what;
+    } counts[] = {
+        {"snapshot_interval", o->snapshot_interval, SPH_MAX_SNAPSHOTS - 2, "snapshots"},
+        {"history_interval", o->history_interval, SPH_MAX_HISTORY_ROWS, "history rows"},
+        {"checkpoint_interval", o->checkpoint_interval, SPH_MAX_SNAPSHOTS, "checkpoints"},
+    };
+    for (int k = 0; k < 3; ++k)
+        if (counts[k].interval > 0 && !(end / counts[k].interval <= counts[k].most))
+            return fail(x, line_of(fr, counts[k].key), subkey(x, counts[k].key),
+                        "expected at least end_time / %.0f = %g s, got %g s (%.3g %s)",
+                        counts[k].most, end / counts[k].most, counts[k].interval,
+                        end / counts[k].interval, counts[k].what);
     return 0;
 }
 
@@ -1283,11 +1307,16 @@ static void mark_set(yaml_document_t *doc, int id)
 
 /* Copies node `id` of `from` (and all below it) into `to`; 0 when out of
  * memory or nested deeper than any case value (the recursion must stay bounded). */
-static int graft(yaml_document_t *to, yaml_document_t *from, int id, int depth)
+/* Nodes a --set value may graft: far more than any case needs; an alias
+ * bomb (an anchor repeated within itself) expands past it at once. */
+#define SET_MAX_NODES 100000
+#define SET_MAX_TEXT 65536
+
+static int graft(yaml_document_t *to, yaml_document_t *from, int id, int depth, long *budget)
 {
     const yaml_node_t *n = yaml_document_get_node(from, id);
     int copy = 0;
-    if (depth > 16)
+    if (depth > 16 || --*budget < 0)
         return 0;
     switch (n->type) {
     case YAML_SCALAR_NODE:
@@ -1298,7 +1327,7 @@ static int graft(yaml_document_t *to, yaml_document_t *from, int id, int depth)
         copy = yaml_document_add_sequence(to, NULL, n->data.sequence.style);
         for (const yaml_node_item_t *i = n->data.sequence.items.start;
              copy && i < n->data.sequence.items.top; ++i) {
-            const int item = graft(to, from, *i, depth + 1);
+            const int item = graft(to, from, *i, depth + 1, budget);
             if (!item || !yaml_document_append_sequence_item(to, copy, item))
                 copy = 0;
         }
@@ -1307,8 +1336,8 @@ static int graft(yaml_document_t *to, yaml_document_t *from, int id, int depth)
         copy = yaml_document_add_mapping(to, NULL, n->data.mapping.style);
         for (const yaml_node_pair_t *p = n->data.mapping.pairs.start;
              copy && p < n->data.mapping.pairs.top; ++p) {
-            const int key = graft(to, from, p->key, depth + 1),
-                      value = key ? graft(to, from, p->value, depth + 1) : 0;
+            const int key = graft(to, from, p->key, depth + 1, budget),
+                      value = key ? graft(to, from, p->value, depth + 1, budget) : 0;
             if (!value || !yaml_document_append_mapping_pair(to, copy, key, value))
                 copy = 0;
         }
@@ -1326,6 +1355,9 @@ static int set_value(struct ctx *x, const char *arg, const char *text, int *id)
 {
     yaml_parser_t parser;
     yaml_document_t value;
+    *id = 0;
+    if (strlen(text) > SET_MAX_TEXT)
+        return fail_set(x, arg, "value longer than %d characters", SET_MAX_TEXT);
     if (!yaml_parser_initialize(&parser))
         return fail_set(x, arg, "out of memory");
     yaml_parser_set_input_string(&parser, (const unsigned char *)text, strlen(text));
@@ -1335,8 +1367,9 @@ static int set_value(struct ctx *x, const char *arg, const char *text, int *id)
         return -1;
     }
     const yaml_node_t *root = yaml_document_get_root_node(&value);
+    long budget = SET_MAX_NODES;
     if (root)
-        *id = graft(x->doc, &value, (int)(root - value.nodes.start) + 1, 0);
+        *id = graft(x->doc, &value, (int)(root - value.nodes.start) + 1, 0, &budget);
     else
         *id = yaml_document_add_scalar(x->doc, NULL, (const yaml_char_t *)"", 0,
                                        YAML_PLAIN_SCALAR_STYLE);
@@ -1344,6 +1377,9 @@ static int set_value(struct ctx *x, const char *arg, const char *text, int *id)
         mark_set(x->doc, *id);
     yaml_document_delete(&value);
     yaml_parser_delete(&parser);
+    if (budget < 0)
+        return fail_set(x, arg, "value expands to more than %d YAML nodes (aliases?)",
+                        SET_MAX_NODES);
     return *id ? 0 : fail_set(x, arg, "value nested too deeply (or out of memory)");
 }
 
@@ -1453,7 +1489,22 @@ static int parser_error(struct ctx *x, const yaml_parser_t *p, FILE *f)
         put(x, "%s: cannot read: %s", x->path, strerror(errno));
     else if (p->error == YAML_MEMORY_ERROR || !p->problem)
         put(x, "%s: out of memory while reading YAML", x->path);
-    else if (p->context)
+    else if (p->error == YAML_READER_ERROR && f) {
+        /* an encoding error (bad UTF-8, a NUL or control byte): the reader
+         * gives its byte offset, not its line */
+        size_t line = 1;
+        rewind(f);
+        for (size_t k = 0; k < p->problem_offset; ++k) {
+            const int ch = fgetc(f);
+            if (ch == EOF)
+                break;
+            line += ch == '\n';
+        }
+        put(x,
+            "%s:%zu: malformed YAML: %s (byte %zu of the file, value 0x%02x); expected UTF-8 "
+            "text",
+            x->path, line, p->problem, p->problem_offset, (unsigned)p->problem_value & 0xffu);
+    } else if (p->context)
         put(x, "%s:%zu: malformed YAML: %s (%s at line %zu)", x->path, p->problem_mark.line + 1,
             p->problem, p->context, p->context_mark.line + 1);
     else
@@ -1505,6 +1556,51 @@ static int load_document(struct ctx *x, yaml_document_t *doc)
     return rc;
 }
 
+static int written(const struct sph_case *c, const struct field *f, const char *base);
+
+/* A float run takes every number in single precision: one past its range
+ * (or a non-zero one below its smallest normal) would become inf or 0 on
+ * the device, so it is refused here with its key. */
+static int out_of_float_range(double v)
+{
+    return !(fabs(v) <= FLT_MAX) || (v != 0 && fabs(v) < FLT_MIN);
+}
+
+static int float_range(struct ctx *x, const struct schema *s, const char *base, const char *path)
+{
+    for (int i = 0; i < s->count; ++i) {
+        const struct field *fl = &s->fields[i];
+        const char *p = base + fl->offset;
+        if (!written(x->c, fl, base))
+            continue;
+        char key[KEY_MAX];
+        snprintf(key, sizeof key, "%s%s%s", path, *path ? "." : "", fl->key);
+        const int n = fl->kind == K_NUMBER   ? 1
+                      : fl->kind == K_VECTOR ? (fl->aux ? (int)fl->aux : x->c->dimension)
+                                             : 0;
+        for (int k = 0; k < n; ++k) {
+            const double v = ((const double *)p)[k];
+            if (out_of_float_range(v)) {
+                snprintf(x->error, x->error_size,
+                         "%s: %s = %g is outside single precision (%g to %g in magnitude, or 0) "
+                         "and this case runs in float: use numerics.precision: double, or check "
+                         "the units",
+                         x->path, key, v, FLT_MIN, FLT_MAX);
+                return -1;
+            }
+        }
+        if (fl->kind == K_MAP && float_range(x, fl->sub, p, key))
+            return -1;
+        for (int k = 0; fl->kind == K_LIST && k < *(const int *)(base + fl->aux); ++k) {
+            char item[KEY_MAX + 16];
+            snprintf(item, sizeof item, "%s[%d]", key, k);
+            if (float_range(x, fl->sub, p + (size_t)k * fl->sub->size, item))
+                return -1;
+        }
+    }
+    return 0;
+}
+
 int case_load(const char *path, int set_count, char *const *sets, struct sph_case *out, char *error,
               size_t error_size)
 {
@@ -1527,6 +1623,8 @@ int case_load(const char *path, int set_count, char *const *sets, struct sph_cas
         rc = apply_set(&x, sets[i]);
     if (!rc)
         rc = read_map(&x, &case_schema, (char *)out, root, root);
+    if (!rc && !out->numerics.double_precision)
+        rc = float_range(&x, &case_schema, (const char *)out, "");
     yaml_document_delete(&doc);
     if (rc) {
         memset(out, 0, sizeof *out);

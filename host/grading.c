@@ -130,6 +130,51 @@ static int search_reach(int k, double skin)
     return (int)ceil(SPH_GRID_SPLIT * ((double)(1 << k) + skin) / (1.0 + skin) - 1e-9);
 }
 
+/* The lattice indices level k visits along each axis: a superset of the
+ * cells in region k (the box form's box_k, the track form's tube's bounding
+ * box), the whole body for the coarsest level. Cells outside would be
+ * skipped by in_level_box anyway; bounding the loop keeps a fine level from
+ * walking the whole body at the fine spacing. */
+static void level_range(const struct grading_frame *g, const struct case_body *b, int k,
+                        long first[3], long last[3])
+{
+    const double spacing = g->dx * (1 << k);
+    for (int a = 0; a < 3; ++a) {
+        first[a] = 0, last[a] = 0;
+        if (a >= g->dim)
+            continue;
+        const double extent = b->box.max[a] - b->box.min[a];
+        double lo = 0, hi = extent;
+        if (k < g->levels && !g->track)
+            lo = g->lo[k][a], hi = g->hi[k][a];
+        else if (k < g->levels) {
+            const double t0 = g->sign[a] * (g->from[a] - g->anchor[a]);
+            const double t1 = g->sign[a] * (g->to[a] - g->anchor[a]);
+            const double margin = g->radius[k] + 2 * g->dx * (1 << (k + 1));
+            lo = fmin(t0, t1) - margin, hi = fmax(t0, t1) + margin;
+        }
+        const double count = ceil(extent / spacing - 1e-9); /* t = (i + 1/2) spacing <= extent */
+        first[a] = (long)fmax(floor(fmax(lo, 0.0) / spacing - 0.5) - 1, 0.0);
+        last[a] = (long)fmin(ceil(fmin(hi, extent) / spacing - 0.5) + 1, count - 1);
+    }
+}
+
+double grading_points(const struct sph_case *c, const struct case_body *b)
+{
+    struct grading_frame g;
+    make_frame(c, b, &g);
+    double points = 0;
+    for (int k = 0; k <= g.levels; ++k) {
+        long first[3], last[3];
+        level_range(&g, b, k, first, last);
+        double level = 1;
+        for (int a = 0; a < g.dim; ++a)
+            level *= last[a] >= first[a] ? (double)(last[a] - first[a] + 1) : 0.0;
+        points += level;
+    }
+    return points;
+}
+
 int grading_fill(const struct sph_case *c, const struct case_body *b, struct sph_particle_sink *out)
 {
     struct grading_frame g;
@@ -139,14 +184,13 @@ int grading_fill(const struct sph_case *c, const struct case_body *b, struct sph
     for (int k = 0; k <= g.levels; ++k) {
         const double spacing = g.dx * (1 << k);
         double extent[3] = {0, 0, 0};
-        long counts[3] = {1, 1, 1};
-        for (int a = 0; a < dim; ++a) {
+        long first[3], last[3];
+        level_range(&g, b, k, first, last);
+        for (int a = 0; a < dim; ++a)
             extent[a] = b->box.max[a] - b->box.min[a];
-            counts[a] = (long)ceil(extent[a] / spacing - 1e-9);
-        }
-        for (long kz = 0; kz < counts[2]; ++kz)
-            for (long ky = 0; ky < counts[1]; ++ky)
-                for (long kx = 0; kx < counts[0]; ++kx) {
+        for (long kz = first[2]; kz <= last[2]; ++kz)
+            for (long ky = first[1]; ky <= last[1]; ++ky)
+                for (long kx = first[0]; kx <= last[0]; ++kx) {
                     const long idx[3] = {kx, ky, kz};
                     double t[3] = {0, 0, 0}, x[3] = {0, 0, 0};
                     int inside = 1;

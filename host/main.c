@@ -225,7 +225,11 @@ static int command_check(int argc, char **argv)
         code = 1;
     } else {
         case_write_resolved(c, stdout);
-        fprintf(stderr, "sph: %s is valid (%d particles)\n", o.case_path, scene.count);
+        fprintf(stderr,
+                "sph: %s is valid (%d particles, %.3g GiB of device memory without "
+                "symmetry-plane ghosts)\n",
+                o.case_path, scene.count,
+                (double)scene.count * (double)solver_case_bytes_per_particle(c) / (1 << 30));
     }
     scene_free(&scene);
     free(c);

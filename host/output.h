@@ -8,8 +8,6 @@
 #include "solver.h"
 #include "sph_case.h"
 
-#define SPH_MAX_SNAPSHOTS 100000
-
 struct output {
     char folder[SPH_PATH_MAX];
     FILE *history;

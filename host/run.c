@@ -668,13 +668,26 @@ static int open_run(const struct run_options *opt, struct run_resources *r, char
     if (!r->c)
         return snprintf(error, size, "out of host memory") > 0;
     struct sph_case *c = r->c;
+    double points = 0;
     if (case_load(opt->case_path, opt->set_count, opt->sets, c, error, size) ||
-        scene_build(c, &r->scene, error, size) || projectile_check_scene(c, &r->scene, error, size))
+        scene_estimate(c, &points, error, size))
+        return 1;
+    if (device_open(opt->device, opt->profile, &r->dev, error, size))
+        return 2;
+    /* before the scene is built: a case the device cannot hold is refused
+     * in milliseconds, not after minutes and gigabytes of host memory */
+    const double bytes = points * (double)solver_case_bytes_per_particle(c);
+    if (bytes > (double)r->dev.global_memory)
+        return 2 * (snprintf(error, size,
+                             "the case needs at least %.2f GiB of device memory (%zu bytes x %.3g "
+                             "particles) but %s has %.2f GiB; use a coarser dx (for PoCL, "
+                             "POCL_MEMORY_LIMIT=<GiB> raises the limit)",
+                             bytes / (1 << 30), solver_case_bytes_per_particle(c), points,
+                             r->dev.name, (double)r->dev.global_memory / (1 << 30)) > 0);
+    if (scene_build(c, &r->scene, error, size) || projectile_check_scene(c, &r->scene, error, size))
         return 1;
     char options[512];
     solver_build_options(c, options, sizeof options);
-    if (device_open(opt->device, opt->profile, &r->dev, error, size))
-        return 2;
     if (c->numerics.double_precision && !r->dev.has_double)
         return 2 * (snprintf(error, size, "%s has no double precision; use precision: float",
                              r->dev.name) > 0);

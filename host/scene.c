@@ -224,17 +224,84 @@ static int apply_groups(const struct sph_case *c, struct sph_scene *s, const int
     return 0;
 }
 
+/* A run longer than this is a typo (a time in ns given as s), not a study. */
+#define MAX_STEPS 1e8
+
+static double norm3(const double v[3])
+{
+    const double largest = fmax(fabs(v[0]), fmax(fabs(v[1]), fabs(v[2])));
+    if (!(largest > 0))
+        return 0;
+    const double a = v[0] / largest, b = v[1] / largest, c = v[2] / largest;
+    return largest * sqrt(a * a + b * b + c * c);
+}
+
+/* The first step's signal speed: the stiffest material's sound speed plus
+ * the fastest body or projectile, m/s. */
+static double signal_speed(const struct sph_case *c)
+{
+    double fastest = c->projectile.enabled ? norm3(c->projectile.velocity) : 0;
+    for (int b = 0; b < c->body_count; ++b)
+        fastest = fmax(fastest, norm3(c->bodies[b].velocity));
+    return solver_max_sound_speed(c) + fastest;
+}
+
+/* Steps to end_time at the first step's time step: a lower bound (the step
+ * shrinks as material compresses). */
+static double step_estimate(const struct sph_case *c)
+{
+    const double dt = c->numerics.cfl * c->numerics.h_over_dx * c->numerics.dx / signal_speed(c);
+    return c->numerics.end_time / dt;
+}
+
+int scene_estimate(const struct sph_case *c, double *points, char *error, size_t error_size)
+{
+    double total = 0, largest = -1;
+    int widest = 0;
+    for (int b = 0; b < c->body_count; ++b) {
+        int counts[3];
+        const double body =
+            c->bodies[b].grading.enabled
+                ? grading_points(c, &c->bodies[b])
+                : box_particles(&c->bodies[b].box, c->dimension, c->numerics.dx, counts);
+        total += body;
+        if (body > largest)
+            largest = body, widest = b;
+    }
+    *points = total;
+    if (!(total <= (double)MAX_PARTICLES)) /* also NaN */
+        return snprintf(error, error_size,
+                        "%s: the bodies span %.3g lattice points at numerics.dx = %g m (body '%s' "
+                        "%.3g); the limit is %.0f million particles: use a larger numerics.dx or "
+                        "smaller bodies",
+                        c->path, total, c->numerics.dx, c->bodies[widest].name, largest,
+                        MAX_PARTICLES / 1e6) > 0;
+    const double steps = step_estimate(c);
+    if (!(steps <= MAX_STEPS))
+        return snprintf(error, error_size,
+                        "%s: numerics.end_time = %g s takes about %.3g steps of %.3g s (CFL "
+                        "%g, h = %g m, signal speed %.4g m/s); the limit is %.0e steps: check "
+                        "end_time's units or use a shorter one",
+                        c->path, c->numerics.end_time, steps, c->numerics.end_time / steps,
+                        c->numerics.cfl, c->numerics.h_over_dx * c->numerics.dx, signal_speed(c),
+                        MAX_STEPS) > 0;
+    return 0;
+}
+
 int scene_build(const struct sph_case *c, struct sph_scene *s, char *error, size_t error_size)
 {
     memset(s, 0, sizeof *s);
+    double points = 0;
+    if (scene_estimate(c, &points, error, error_size))
+        return 1;
     long total = 0;
     for (int b = 0; b < c->body_count; ++b) {
         int counts[3];
         total += c->bodies[b].grading.enabled
                      ? fill_graded(c, b, NULL, NULL, 0)
-                     : box_particles(&c->bodies[b].box, c->dimension, c->numerics.dx, counts);
+                     : (long)box_particles(&c->bodies[b].box, c->dimension, c->numerics.dx, counts);
     }
-    if (total <= 0 || total > 200000000L) {
+    if (total <= 0 || total > MAX_PARTICLES) {
         snprintf(error, error_size,
                  "%s: the bodies give %ld particles at dx = %g m (expected 1 "
                  "to 200 million)",

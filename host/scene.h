@@ -31,10 +31,18 @@ struct sph_particle_sink {
 
 /* The level (0 finest) a graded body's lattice has at point x, m. */
 int grading_level_at(const struct sph_case *c, const struct case_body *b, const double x[3]);
+/* The lattice points grading_fill visits for a graded body: an upper bound
+ * of its particles, in floating point (no loop over particles). */
+double grading_points(const struct sph_case *c, const struct case_body *b);
 /* Fills a graded body (bodies[].grading) level by level; returns the
  * particles emitted, or -1 when emit stopped it. */
 int grading_fill(const struct sph_case *c, const struct case_body *b,
                  struct sph_particle_sink *out);
+
+/* The lattice points the bodies span (an upper bound of the particles), in
+ * floating point before any loop or allocation; non-zero with `error`
+ * naming the widest body past 200 million. scene_build calls it first. */
+int scene_estimate(const struct sph_case *c, double *points, char *error, size_t error_size);
 
 /* Fills `scene` from `c`. Returns 0, or non-zero with one sentence in
  * `error` (no particles, overlapping loads, empty group). */

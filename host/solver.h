@@ -213,6 +213,12 @@ double solver_max_sound_speed(const struct sph_case *c);
 int solver_lanes(const struct sph_case *c);
 /* Whether some body of the case has a graded lattice (SPH_GRADED). */
 int solver_case_graded(const struct sph_case *c);
+/* What a solver takes from the case before any buffer: dimension,
+ * precision, the options that decide its fields, the element sizes. */
+void solver_configure(struct solver *s, const struct sph_case *c);
+/* solver_bytes_per_particle of the case, before a scene or a device
+ * exists (the registry's fields in use). */
+size_t solver_case_bytes_per_particle(const struct sph_case *c);
 /* -D options for the program from the case. */
 void solver_build_options(const struct sph_case *c, char *options, size_t size);
 

@@ -6,6 +6,32 @@
 #include <stdlib.h>
 #include <string.h>
 
+void solver_configure(struct solver *s, const struct sph_case *c)
+{
+    s->dim = c->dimension;
+    s->double_precision = c->numerics.double_precision;
+    s->total_lagrangian = c->numerics.total_lagrangian;
+    s->lanes = solver_lanes(c);
+    s->csph = c->numerics.csph;
+    s->av_scheme = c->numerics.av_scheme;
+    s->artificial_stress = c->numerics.as_epsilon > 0;
+    s->wall_count = c->wall_count; /* wall_force exists only with walls */
+    const size_t r = s->double_precision ? sizeof(cl_double) : sizeof(cl_float);
+    s->element_size[ELEM_REAL] = r;
+    s->element_size[ELEM_INT] = sizeof(cl_int);
+    s->element_size[ELEM_VEC] = (s->dim == 2 ? 2 : 4) * r;
+    s->element_size[ELEM_SYMT] = (s->dim == 2 ? 4 : 6) * r; /* kernels/common.cl's symt */
+    s->element_size[ELEM_FULLT] = (s->dim == 2 ? 4 : 16) * r;
+}
+
+size_t solver_case_bytes_per_particle(const struct sph_case *c)
+{
+    struct solver s;
+    memset(&s, 0, sizeof s);
+    solver_configure(&s, c);
+    return solver_bytes_per_particle(&s);
+}
+
 int solver_case_graded(const struct sph_case *c)
 {
     int graded = 0;

@@ -92,13 +92,7 @@ int solver_create(struct solver *s, struct sph_device *dev, const struct sph_cas
     s->dev = dev;
     s->dim = c->dimension;
     s->n = scene->count;
-    s->double_precision = c->numerics.double_precision;
-    s->total_lagrangian = c->numerics.total_lagrangian;
-    s->lanes = solver_lanes(c);
-    s->csph = c->numerics.csph;
-    s->av_scheme = c->numerics.av_scheme;
-    s->artificial_stress = c->numerics.as_epsilon > 0;
-    s->wall_count = c->wall_count; /* wall_force exists only with walls */
+    solver_configure(s, c);
     s->graded = solver_case_graded(c);
     s->dx = c->numerics.dx;
     s->reduce_groups = 64;
@@ -107,12 +101,6 @@ int solver_create(struct solver *s, struct sph_device *dev, const struct sph_cas
                          : c->plane == SPH_PLANE_AXISYMMETRIC ? 2.0 * M_PI /* per radian */
                                                               : c->thickness;
     s->probe_count = scene->probe_count;
-    const size_t r = s->double_precision ? sizeof(cl_double) : sizeof(cl_float);
-    s->element_size[ELEM_REAL] = r;
-    s->element_size[ELEM_INT] = sizeof(cl_int);
-    s->element_size[ELEM_VEC] = (s->dim == 2 ? 2 : 4) * r;
-    s->element_size[ELEM_SYMT] = (s->dim == 2 ? 4 : 6) * r; /* kernels/common.cl's symt */
-    s->element_size[ELEM_FULLT] = (s->dim == 2 ? 4 : 16) * r;
     fill_run_params(s, c);
     solver_ghosts_setup(s, c, scene);
     if (solver_create_buffers(s, c, scene, error, error_size))

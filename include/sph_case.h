@@ -183,6 +183,11 @@ struct case_symmetry {
     double position; /* the plane's coordinate on that axis, m, default 0 */
 };
 
+/* Snapshots a run may write (the XDMF index lists them all); history rows
+ * and checkpoints are bounded alike (host/case.c check_output). */
+#define SPH_MAX_SNAPSHOTS 100000
+#define SPH_MAX_HISTORY_ROWS 10000000
+
 struct case_output {
     double snapshot_interval;        /* s; default end_time / 20 */
     double history_interval;         /* s; default end_time / 1000 */

@@ -5,6 +5,7 @@
 #ifndef _POSIX_C_SOURCE
 #define _POSIX_C_SOURCE 200809L
 #endif
+#include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -209,6 +210,12 @@ static const struct bad_input bad_inputs[] = {
     {"unknown key", MINIMAL "numerics:\n  dx: 1.0e-3\n  end_time: 3.0e-3\n  foo: 1\n", 15,
      "unknown key 'foo' in numerics; expected one of: dx, kernel"},
     {"unknown top-level key", "dimension: 2\nbogus: 1\n", 2, "unknown key 'bogus' at top level"},
+    {"snapshot every step",
+     MINIMAL "numerics:\n  dx: 1.0e-3\n  end_time: 3.0e-3\noutput:\n"
+             "  snapshot_interval: 1e-300\n",
+     16, "output.snapshot_interval: expected at least end_time / 99998"},
+    {"bad UTF-8 byte", MINIMAL "numerics:\n  dx: 1.0e-3 # \xff\n  end_time: 3.0e-3\n", 13,
+     "invalid leading UTF-8 octet"},
     {"string where a number goes", MINIMAL "numerics:\n  dx: fine\n  end_time: 3.0e-3\n", 13,
      "numerics.dx: expected a positive number (m), got 'fine'"},
     {"negative dx", MINIMAL "numerics:\n  dx: -1\n  end_time: 3.0e-3\n", 13,
@@ -657,6 +664,62 @@ static void test_round_trip_minimal(void **state)
     drop_file(path);
 }
 
+/* In a float run every number must fit a float (it would reach the device
+ * as inf or 0); a double run takes it. */
+static void test_float_range(void **state)
+{
+    (void)state;
+    static struct sph_case c;
+    char error[SPH_ERROR_MAX];
+    const char *text = MINIMAL "numerics: {dx: 1e-3, end_time: 1e-3}\n";
+    char *dense[] = {"materials.steel.density=1e308"};
+    assert_int_not_equal(load_text(text, 1, dense, &c, error, sizeof error), 0);
+    assert_non_null(strstr(error, "materials[0].density = 1e+308 is outside single precision"));
+    char *dense_double[] = {"materials.steel.density=1e308", "numerics.precision=double"};
+    if (load_text(text, 2, dense_double, &c, error, sizeof error))
+        fail_msg("%s", error);
+    char *tiny[] = {"bodies.beam.velocity=[1e-300, 0]"};
+    assert_int_not_equal(load_text(text, 1, tiny, &c, error, sizeof error), 0);
+    assert_non_null(strstr(error, "bodies[0].velocity = 1e-300"));
+}
+
+/* A wall normal is normalised without overflow: [1e308, 1e308] is the
+ * diagonal, not [0, 0] (its squares overflowed). */
+static void test_wall_normal_scaled(void **state)
+{
+    (void)state;
+    static struct sph_case c;
+    char error[SPH_ERROR_MAX];
+    char *sets[] = {"walls=[{name: floor, point: [0, 0], normal: [1e308, 1e308]}]"};
+    if (load_text(MINIMAL "numerics: {dx: 1e-3, end_time: 1e-3}\n", 1, sets, &c, error,
+                  sizeof error))
+        fail_msg("%s", error);
+    assert_float_equal(c.walls[0].normal[0], sqrt(0.5), 1e-15);
+    assert_float_equal(c.walls[0].normal[1], sqrt(0.5), 1e-15);
+}
+
+/* An alias bomb in a --set value is refused before it expands. */
+static void test_set_alias_bomb(void **state)
+{
+    (void)state;
+    static struct sph_case c;
+    char error[SPH_ERROR_MAX], value[1024] = "numerics.x=[&a [1,1,1,1,1,1,1,1,1,1]";
+    for (char n = 'b'; n <= 'i'; ++n) {
+        char level[64];
+        snprintf(level, sizeof level, ", &%c [", n);
+        strcat(value, level);
+        for (int k = 0; k < 10; ++k)
+            snprintf(level, sizeof level, "%s*%c", k ? "," : "", n - 1), strcat(value, level);
+        strcat(value, "]");
+    }
+    strcat(value, "]");
+    char *sets[] = {value};
+    assert_int_not_equal(load_text(MINIMAL "numerics: {dx: 1e-3, end_time: 1e-3}\n", 1, sets, &c,
+                                   error, sizeof error),
+                         0);
+    assert_non_null(strstr(error, "value expands to more than"));
+}
+
 int main(void)
 {
     struct CMUnitTest tests[64] = {
@@ -666,8 +729,10 @@ int main(void)
         cmocka_unit_test(test_set_creates_maps),   cmocka_unit_test(test_set_errors),
         cmocka_unit_test(test_set_errors_walk),    cmocka_unit_test(test_round_trip_beam),
         cmocka_unit_test(test_round_trip_3d),      cmocka_unit_test(test_round_trip_minimal),
+        cmocka_unit_test(test_float_range),        cmocka_unit_test(test_wall_normal_scaled),
+        cmocka_unit_test(test_set_alias_bomb),
     };
-    int n = 12;
+    int n = 15;
     const int bad = (int)(sizeof bad_inputs / sizeof *bad_inputs);
     if (n + bad > (int)(sizeof tests / sizeof *tests)) {
         fprintf(stderr, "test_case: the test table is too small\n");
