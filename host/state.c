@@ -129,8 +129,16 @@ cl_mem solver_create_buffer(struct solver *s, size_t bytes)
     if (cl_failed())
         return NULL;
     cl_int err = CL_SUCCESS;
-    cl_mem m = clCreateBuffer(s->dev->context, CL_MEM_READ_WRITE, bytes ? bytes : 16, NULL, &err);
+    if (!bytes)
+        bytes = 16;
+    cl_mem m = clCreateBuffer(s->dev->context, CL_MEM_READ_WRITE, bytes, NULL, &err);
     CL_CHECK_ERR("clCreateBuffer", err);
+    /* zeroed: nothing a kernel reads is ever undefined, the ghost slots
+     * and the padding of a reduction included (oclgrind --uninitialized) */
+    void *zeros = m ? CHECKED_CALLOC(1, bytes, "zeros for a buffer") : NULL;
+    if (zeros)
+        CL_CHECK(clEnqueueWriteBuffer(s->dev->queue, m, CL_TRUE, 0, bytes, zeros, 0, NULL, NULL));
+    free(zeros);
     return m;
 }
 
@@ -172,15 +180,6 @@ static void upload_ints(struct solver *s, cl_mem buffer, const int *values, int 
 {
     CL_CHECK(clEnqueueWriteBuffer(s->dev->queue, buffer, CL_TRUE, 0, (size_t)n * sizeof(cl_int),
                                   values, 0, NULL, NULL));
-}
-
-static void zero_buffer(struct solver *s, cl_mem buffer, size_t bytes)
-{
-    void *zeros = CHECKED_CALLOC(1, bytes, "zeros for a buffer");
-    if (!zeros)
-        return;
-    CL_CHECK(clEnqueueWriteBuffer(s->dev->queue, buffer, CL_TRUE, 0, bytes, zeros, 0, NULL, NULL));
-    free(zeros);
 }
 
 /* The bulk modulus at rho0 of the material's EOS (dp/dmu at mu = 0). */
@@ -375,19 +374,9 @@ int solver_create_buffers(struct solver *s, const struct sph_case *c, const stru
     }
     free(ids);
     free(temperature);
-    /* the pressure, sound speed and artificial stress of the initial state
-     * are written by solver_prime's material update, before anything reads
-     * them */
-    static const enum field uploaded[] = {
-        FIELD_POS,  FIELD_POS0,     FIELD_VEL,   FIELD_VEL_HALF,    FIELD_RHO,
-        FIELD_MASS, FIELD_MATERIAL, FIELD_FLAGS, FIELD_TEMPERATURE, FIELD_ID};
-    for (int f = 0; f < FIELD_COUNT; ++f) {
-        int is_uploaded = 0;
-        for (size_t k = 0; k < sizeof uploaded / sizeof uploaded[0]; ++k)
-            is_uploaded |= uploaded[k] == (enum field)f;
-        if (!is_uploaded && field_bytes(s, (enum field)f))
-            zero_buffer(s, s->field[f], field_bytes(s, (enum field)f));
-    }
+    /* every other field starts at zero (solver_create_buffer); the
+     * pressure, sound speed and artificial stress of the initial state are
+     * written by solver_prime's material update, before anything reads them */
     return 0;
 }
 
