@@ -166,6 +166,7 @@ static int run_scene(struct sph_device *dev, const struct bench_scene *b,
         free(c);
         return 1;
     }
+    solver_choose_loop(c, dev);
     solver_build_options(c, options, sizeof options);
     failed = device_build(dev, device_source_dir(), options, error, error_size);
     if (!failed && (failed = solver_create(&s, dev, c, &scene, error, error_size)) != 0)

@@ -113,7 +113,7 @@ static const char *const quantity_names[] = {"displacement_x", "displacement_y",
                                              NULL};
 static const char *const precision_names[] = {"float", "double", NULL};
 static const char *const as_weight_names[] = {"relative", "lattice", NULL};
-static const char *const neighbour_loop_names[] = {"lanes", "plain", NULL};
+static const char *const neighbour_loop_names[] = {"lanes", "plain", "auto", NULL};
 static const char *const formulation_names[] = {"updated_lagrangian", "total_lagrangian", NULL};
 static const char *const av_scheme_names[] = {"monaghan", "limited", "switch", NULL};
 static const char *const ref_nouns[] = {"material", "body", "group"};
@@ -1210,7 +1210,8 @@ static const struct field numerics_fields[] = {
     NUMBER("end_time", struct case_numerics, end_time, F_REQUIRED, R_POSITIVE, 0, 0, 0, "s"),
     NUMBER("damping", struct case_numerics, damping, 0, R_NONNEG, 0, 0, 0, "1/s"),
     ENUM("precision", struct case_numerics, double_precision, 0, 0, precision_names, NULL),
-    ENUM("neighbour_loop", struct case_numerics, plain_loops, 0, 0, neighbour_loop_names, NULL),
+    ENUM("neighbour_loop", struct case_numerics, neighbour_loop, 0, SPH_LOOP_AUTO,
+         neighbour_loop_names, NULL),
 };
 
 static const struct field health_fields[] = {

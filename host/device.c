@@ -1,6 +1,7 @@
 /* OpenCL device layer. Every call is checked; failures name the call, the
  * error, the file and the line (as the Khronos OpenCL-SDK samples do). */
 #include "device.h"
+#include "sph_case.h" /* sph_shared.h: the reduction slots */
 
 #include <errno.h>
 #include <stdint.h>
@@ -281,6 +282,28 @@ static int select_device(const struct device_entry *entries, int count, const ch
     return -1;
 }
 
+/* The reductions run work-groups of REDUCE_WG (64, kernels/common.cl) with
+ * a local array of that many rows of their slots (at most SPH_RED_SLOTS
+ * reals, 8 B each in double); the other launches leave the work-group size
+ * to the implementation. A device below either limit is refused by name. */
+static int check_group_limits(const struct sph_device *dev, char *error, size_t error_size)
+{
+    size_t max_group = 0;
+    cl_ulong local_memory = 0;
+    CL_CHECK(clGetDeviceInfo(dev->device, CL_DEVICE_MAX_WORK_GROUP_SIZE, sizeof max_group,
+                             &max_group, NULL));
+    CL_CHECK(clGetDeviceInfo(dev->device, CL_DEVICE_LOCAL_MEM_SIZE, sizeof local_memory,
+                             &local_memory, NULL));
+    const cl_ulong needed = (cl_ulong)REDUCE_GROUP * SPH_RED_SLOTS * sizeof(cl_double);
+    if (!cl_failed() && (max_group < REDUCE_GROUP || local_memory < needed))
+        return snprintf(error, error_size,
+                        "%s allows work-groups of %zu and %llu B of local memory; the reduction "
+                        "kernels need %d and %llu B",
+                        dev->name, max_group, (unsigned long long)local_memory, REDUCE_GROUP,
+                        (unsigned long long)needed) > 0;
+    return 0;
+}
+
 int device_open(const char *selector, int profiling, struct sph_device *dev, char *error,
                 size_t error_size)
 {
@@ -303,6 +326,11 @@ int device_open(const char *selector, int profiling, struct sph_device *dev, cha
     cl_device_fp_config fp64 = 0;
     CL_CHECK(clGetDeviceInfo(dev->device, CL_DEVICE_DOUBLE_FP_CONFIG, sizeof fp64, &fp64, NULL));
     dev->has_double = fp64 != 0;
+    cl_device_type type = 0;
+    CL_CHECK(clGetDeviceInfo(dev->device, CL_DEVICE_TYPE, sizeof type, &type, NULL));
+    dev->is_gpu = (type & CL_DEVICE_TYPE_GPU) != 0;
+    if (check_group_limits(dev, error, error_size))
+        return 1;
     cl_int err = CL_SUCCESS;
     dev->context = clCreateContext(NULL, 1, &dev->device, NULL, NULL, &err);
     CL_CHECK_ERR("clCreateContext", err);

@@ -11,6 +11,9 @@
 #include <stddef.h>
 #include <stdio.h>
 
+/* Work-group size of the reduction kernels (REDUCE_WG in kernels/common.cl). */
+#define REDUCE_GROUP 64
+
 struct sph_device {
     cl_platform_id platform;
     cl_device_id device;
@@ -23,6 +26,7 @@ struct sph_device {
     cl_ulong global_memory;
     cl_ulong max_allocation;
     int has_double;
+    int is_gpu;     /* CL_DEVICE_TYPE_GPU: numerics.neighbour_loop auto takes plain */
     int from_cache; /* the program came from the binary cache */
 };
 

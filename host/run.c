@@ -686,6 +686,7 @@ static int open_run(const struct run_options *opt, struct run_resources *r, char
                              r->dev.name, (double)r->dev.global_memory / (1 << 30)) > 0);
     if (scene_build(c, &r->scene, error, size) || projectile_check_scene(c, &r->scene, error, size))
         return 1;
+    solver_choose_loop(c, &r->dev);
     char options[512];
     solver_build_options(c, options, sizeof options);
     if (c->numerics.double_precision && !r->dev.has_double)

@@ -15,8 +15,9 @@
  * supports. */
 #define SPH_GRID_SKIN 0.2
 
-/* Work-group size of the reduction kernels: REDUCE_WG in kernels/common.cl. */
-#define REDUCE_GROUP_SIZE 64
+/* Work-group size of the reduction kernels: REDUCE_WG in kernels/common.cl,
+ * checked against the device at device_open. */
+#define REDUCE_GROUP_SIZE REDUCE_GROUP
 
 /* Host evaluations of the device's smoothing kernels (kernels/smoothing.cl
  * compiled as C, see host/smoothing.c). */
@@ -211,6 +212,9 @@ double solver_max_sound_speed(const struct sph_case *c);
  * elsewhere (graded and axisymmetric lattices too). */
 #define SPH_LANES_DEFAULT 8
 int solver_lanes(const struct sph_case *c);
+/* numerics.neighbour_loop auto: lanes on a CPU, plain on a GPU (whose
+ * work-items want one particle each); the resolved case says which. */
+void solver_choose_loop(struct sph_case *c, const struct sph_device *dev);
 /* Whether some body of the case has a graded lattice (SPH_GRADED). */
 int solver_case_graded(const struct sph_case *c);
 /* What a solver takes from the case before any buffer: dimension,

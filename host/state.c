@@ -40,9 +40,18 @@ int solver_case_graded(const struct sph_case *c)
     return graded;
 }
 
+void solver_choose_loop(struct sph_case *c, const struct sph_device *dev)
+{
+    if (c->numerics.neighbour_loop == SPH_LOOP_AUTO)
+        c->numerics.neighbour_loop = dev->is_gpu ? SPH_LOOP_PLAIN : SPH_LOOP_LANES;
+}
+
 int solver_lanes(const struct sph_case *c)
 {
-    return c->numerics.plain_loops || c->numerics.total_lagrangian ? 1 : SPH_LANES_DEFAULT;
+    /* auto not yet resolved for a device (sph check, unit tests): a CPU's */
+    return c->numerics.neighbour_loop == SPH_LOOP_PLAIN || c->numerics.total_lagrangian
+               ? 1
+               : SPH_LANES_DEFAULT;
 }
 
 void solver_build_options(const struct sph_case *c, char *options, size_t size)

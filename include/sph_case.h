@@ -26,6 +26,10 @@ enum sph_load_law {
     SPH_LOAD_QUADRATIC_RAMP = 2, /* F (t / t_ramp)^2 until t_ramp, then F */
 };
 
+/* Passes 1 and 2: 8 particles per work-item (lanes, for CPUs), one (plain,
+ * for GPUs), or by the device (auto: case_choose_loop). */
+enum sph_neighbour_loop { SPH_LOOP_LANES = 0, SPH_LOOP_PLAIN = 1, SPH_LOOP_AUTO = 2 };
+
 enum sph_shape { SPH_SHAPE_BOX = 0, SPH_SHAPE_CYLINDER = 1 };
 
 /* When a particle fails (kernels/material.cl): never, at first yield (the
@@ -164,7 +168,7 @@ struct case_numerics {
     double end_time;             /* s, required */
     double damping;              /* 1/s, default 0 */
     int double_precision;        /* default 0 */
-    int plain_loops;             /* neighbour_loop: 0 lanes (default, where it applies), 1 plain */
+    int neighbour_loop; /* enum sph_neighbour_loop; auto (default) is resolved for the device */
 };
 
 /* A rigid plane: particles stay on the side the normal points to, their

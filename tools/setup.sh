@@ -12,8 +12,10 @@ MODE=${1:-run}
 PACKAGES="build-essential cmake pkg-config ocl-icd-opencl-dev opencl-c-headers \
 pocl-opencl-icd clinfo libyaml-dev libhdf5-dev libcmocka-dev clang-format \
 python3 python3-numpy python3-h5py python3-matplotlib python3-yaml python3-scipy"
-# The tests also open a run as ParaView does (tests/check_paraview.py).
-TEST_PACKAGES="python3-paraview"
+# The tests also open a run as ParaView does (tests/check_paraview.py), run
+# the kernels under oclgrind (tests/check_oclgrind.sh) and fuzz the case
+# reader with clang's libFuzzer (tests/fuzz_case.sh).
+TEST_PACKAGES="python3-paraview oclgrind clang libclang-rt-14-dev"
 
 case "$MODE" in
 run | test | build) ;;
