@@ -25,28 +25,33 @@ int health_watch_open(struct health_watch *h, struct solver *s, int count_now)
     return 0;
 }
 
+/* The watch's records in a checkpoint: one list for saving and loading
+ * (its neighbours array is scratch). */
+#define HEALTH_RECORDS(X)                                                                          \
+    do {                                                                                           \
+        X(h->min_pair_distance);                                                                   \
+        X(h->max_clumped);                                                                         \
+        X(h->max_swegle);                                                                          \
+        X(h->first_unhealthy_time);                                                                \
+        X(h->reason);                                                                              \
+        X(h->stop);                                                                                \
+        X(h->max_neighbour_loss);                                                                  \
+    } while (0)
+
 void health_watch_save(const struct health_watch *h, int n, struct checkpoint *k)
 {
-    CHECKPOINT_PUT(k, "health.", h->min_pair_distance);
-    CHECKPOINT_PUT(k, "health.", h->max_clumped);
-    CHECKPOINT_PUT(k, "health.", h->max_swegle);
-    CHECKPOINT_PUT(k, "health.", h->first_unhealthy_time);
-    CHECKPOINT_PUT(k, "health.", h->reason);
-    CHECKPOINT_PUT(k, "health.", h->stop);
-    CHECKPOINT_PUT(k, "health.", h->max_neighbour_loss);
+#define SAVE(value) CHECKPOINT_PUT(k, "health.", value)
+    HEALTH_RECORDS(SAVE);
+#undef SAVE
     checkpoint_put(k, "health.initial_neighbours", h->initial_neighbours, sizeof(int) * (size_t)n);
     checkpoint_put(k, "health.damaged", h->damaged, (size_t)n);
 }
 
 void health_watch_load(struct health_watch *h, int n, struct checkpoint *k)
 {
-    CHECKPOINT_GET(k, "health.", h->min_pair_distance);
-    CHECKPOINT_GET(k, "health.", h->max_clumped);
-    CHECKPOINT_GET(k, "health.", h->max_swegle);
-    CHECKPOINT_GET(k, "health.", h->first_unhealthy_time);
-    CHECKPOINT_GET(k, "health.", h->reason);
-    CHECKPOINT_GET(k, "health.", h->stop);
-    CHECKPOINT_GET(k, "health.", h->max_neighbour_loss);
+#define LOAD(value) CHECKPOINT_GET(k, "health.", value)
+    HEALTH_RECORDS(LOAD);
+#undef LOAD
     checkpoint_get(k, "health.initial_neighbours", h->initial_neighbours, sizeof(int) * (size_t)n);
     checkpoint_get(k, "health.damaged", h->damaged, (size_t)n);
 }
