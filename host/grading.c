@@ -153,9 +153,12 @@ static void level_range(const struct grading_frame *g, const struct case_body *b
             const double margin = g->radius[k] + 2 * g->dx * (1 << (k + 1));
             lo = fmin(t0, t1) - margin, hi = fmax(t0, t1) + margin;
         }
-        const double count = ceil(extent / spacing - 1e-9); /* t = (i + 1/2) spacing <= extent */
-        first[a] = (long)fmax(floor(fmax(lo, 0.0) / spacing - 0.5) - 1, 0.0);
-        last[a] = (long)fmin(ceil(fmin(hi, extent) / spacing - 0.5) + 1, count - 1);
+        /* t = (i + 1/2) spacing <= extent; clamped in double before the
+         * casts (a hostile dx would overflow a long: scene_estimate then
+         * refuses the case on these counts) */
+        const double count = fmin(ceil(extent / spacing - 1e-9), 1e15);
+        first[a] = (long)fmin(fmax(floor(fmax(lo, 0.0) / spacing - 0.5) - 1, 0.0), 1e15);
+        last[a] = (long)fmax(fmin(ceil(fmin(hi, extent) / spacing - 0.5) + 1, count - 1), -1.0);
     }
 }
 

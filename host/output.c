@@ -54,6 +54,7 @@ static int output_setup(struct output *o, const char *folder, const struct sph_c
                         int particles, char *error, size_t error_size)
 {
     memset(o, 0, sizeof *o);
+    H5Eset_auto2(H5E_DEFAULT, NULL, NULL); /* our messages name the file and the cause */
     snprintf(o->folder, sizeof o->folder, "%s", folder);
     o->particle_count = particles;
     o->dim = c->dimension;
@@ -73,7 +74,6 @@ static int output_setup(struct output *o, const char *folder, const struct sph_c
 int output_open(struct output *o, const char *folder, const struct sph_case *c, int particles,
                 char *error, size_t error_size)
 {
-    H5Eset_auto2(H5E_DEFAULT, NULL, NULL); /* our messages name the file and the cause */
     if (output_setup(o, folder, c, particles, error, error_size))
         return 1;
     if (make_folders(folder) != 0) {
@@ -112,6 +112,15 @@ static FILE *reopen_csv(const char *folder, const char *name, long length, char 
     char path[SPH_PATH_MAX + 64];
     snprintf(path, sizeof path, "%s/%s", folder, name);
     FILE *f = fopen(path, "r+");
+    struct stat st;
+    if (f && fstat(fileno(f), &st) == 0 && st.st_size < (off_t)length) {
+        snprintf(error, error_size,
+                 "%s holds %lld bytes, fewer than the %ld it had at the checkpoint (cut or "
+                 "replaced since?)",
+                 path, (long long)st.st_size, length);
+        fclose(f);
+        return NULL;
+    }
     if (!f || ftruncate(fileno(f), (off_t)length) != 0 || fseek(f, 0, SEEK_END) != 0 ||
         ftell(f) != length) {
         snprintf(error, error_size, "cannot reopen %s at the checkpoint's %ld bytes: %s", path,
@@ -125,10 +134,16 @@ static FILE *reopen_csv(const char *folder, const char *name, long length, char 
 
 void output_checkpoint_save(struct output *o, struct checkpoint *k)
 {
-    fflush(o->history);
+    /* a length the files never reached would be cut to on resume */
+    if (fflush(o->history) != 0 || ferror(o->history) ||
+        (o->ballistics && (fflush(o->ballistics) != 0 || ferror(o->ballistics)))) {
+        snprintf(k->error, sizeof k->error, "history.csv or ballistics.csv could not be written");
+        k->failed = 1;
+        return;
+    }
     long history_bytes = ftell(o->history), ballistics_bytes = 0;
     if (o->ballistics)
-        fflush(o->ballistics), ballistics_bytes = ftell(o->ballistics);
+        ballistics_bytes = ftell(o->ballistics);
     CHECKPOINT_PUT(k, "output.", history_bytes);
     CHECKPOINT_PUT(k, "output.", ballistics_bytes);
     CHECKPOINT_PUT(k, "output.", o->snapshot_count);
@@ -156,13 +171,21 @@ int output_resume(struct output *o, const char *folder, const struct sph_case *c
     CHECKPOINT_GET(k, "output.", o->wall_centre);
     CHECKPOINT_GET(k, "output.", o->wall_half_width);
     CHECKPOINT_GET(k, "output.", o->cavity_probes);
+    o->resume_history_bytes = history_bytes;
+    o->resume_ballistics_bytes = ballistics_bytes;
     if (k->failed)
         return snprintf(error, error_size, "%s", k->error) > 0;
-    o->history = reopen_csv(folder, "history.csv", history_bytes, error, error_size);
+    return 0;
+}
+
+int output_resume_files(struct output *o, int with_ballistics, char *error, size_t error_size)
+{
+    o->history = reopen_csv(o->folder, "history.csv", o->resume_history_bytes, error, error_size);
     if (!o->history)
         return 1;
-    if (c->projectile.enabled) {
-        o->ballistics = reopen_csv(folder, "ballistics.csv", ballistics_bytes, error, error_size);
+    if (with_ballistics) {
+        o->ballistics =
+            reopen_csv(o->folder, "ballistics.csv", o->resume_ballistics_bytes, error, error_size);
         if (!o->ballistics)
             return 1;
     }

@@ -22,6 +22,7 @@ struct output {
     int wall_count;           /* walls drawn in the XDMF (a square or segment each) */
     double wall_point[SPH_MAX_WALLS][3], wall_normal[SPH_MAX_WALLS][3];
     double wall_centre[SPH_MAX_WALLS][3], wall_half_width; /* placed at the first snapshot */
+    long resume_history_bytes, resume_ballistics_bytes;    /* sph resume: the CSVs' lengths */
     int column_count; /* the particle datasets of a snapshot, for the XDMF index */
     struct snapshot_column {
         const char *name;
@@ -120,12 +121,15 @@ int output_summary(struct output *o, const struct run_summary *s);
 void output_close(struct output *o);
 
 /* Checkpoints (host/checkpoint.h): the snapshot index, the walls' placement
- * and how long the CSV files were; output_resume opens a run folder again
- * at that point (output_open's counterpart for `sph resume`). */
+ * and how long the CSV files were; output_resume reads them back (touching
+ * no file: output_open's counterpart for `sph resume`) and, once the whole
+ * checkpoint has loaded, output_resume_files cuts the CSV files back to
+ * those lengths and opens them for appending. */
 struct checkpoint;
 void output_checkpoint_save(struct output *o, struct checkpoint *k);
 int output_resume(struct output *o, const char *folder, const struct sph_case *c, int particles,
                   struct checkpoint *k, char *error, size_t error_size);
+int output_resume_files(struct output *o, int with_ballistics, char *error, size_t error_size);
 
 /* A file written through a temporary name (.NAME.tmp beside it) and renamed
  * when complete, so a full disk or a crash leaves the previous file, never

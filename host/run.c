@@ -393,11 +393,30 @@ static char *read_resolved_case(const char *folder, size_t *length)
 
 /* Writes RUN_DIR/checkpoint.h5 (host/checkpoint.h). A failure is reported
  * and the run goes on: the previous checkpoint stays. */
+/* The resolved case as text, from the case in memory (what
+ * case.resolved.yaml was written from): an edit of the file during the run
+ * is then caught on resume. */
+static char *resolved_case_text(const struct sph_case *c, size_t *length)
+{
+    char *text = NULL;
+    FILE *f = open_memstream(&text, length);
+    if (!f)
+        return NULL;
+    const int bad = case_write_resolved(c, f) != 0;
+    if ((fclose(f) != 0) | bad) {
+        free(text);
+        return NULL;
+    }
+    return text;
+}
+
+/* Writes RUN_DIR/checkpoint.h5 (host/checkpoint.h). A failure is reported
+ * and the run goes on: the previous checkpoint stays. */
 static int write_checkpoint(struct loop *L)
 {
     struct checkpoint *k = CHECKED_CALLOC(1, sizeof *k, "the checkpoint");
     size_t length = 0;
-    char *text = read_resolved_case(L->out->folder, &length);
+    char *text = resolved_case_text(L->c, &length);
     int failed = !k || !text;
     if (!failed && checkpoint_begin(k, L->out->folder) == 0) {
         checkpoint_put(k, "case", text, length);
@@ -407,11 +426,16 @@ static int write_checkpoint(struct loop *L)
 #undef SAVE
         health_watch_save(&L->health, L->s->n_real, k);
         output_checkpoint_save(L->out, k);
-    }
-    failed = failed || cl_failed() || checkpoint_end(k);
+        if (cl_failed()) /* the device did not answer: the records are not the state */
+            k->failed = 1, snprintf(k->error, sizeof k->error, "%s", cl_failure());
+        failed = checkpoint_end(k); /* closes the file; removes it on a failure */
+    } else if (!failed)
+        failed = 1; /* checkpoint_begin's error is in k */
     if (failed && !cl_failed())
         fprintf(stderr, "sph: checkpoint not written at t = %.6e s: %s\n", L->t,
-                k ? k->error : "out of host memory");
+                !k      ? "out of host memory"
+                : !text ? "the resolved case could not be formatted (out of host memory)"
+                        : k->error);
     free(k);
     free(text);
     L->next_checkpoint_wall = wall_seconds() + L->c->output.checkpoint_wall_interval;
@@ -444,17 +468,28 @@ static void on_interrupt(int signal_number)
     interrupt_signal = signal_number;
 }
 
+/* Installs the handler (on) or puts back what was there; a signal the
+ * parent ignores (a background job of a script) stays ignored. */
 static void catch_interrupts(int on)
 {
+    static struct sigaction previous[2];
+    const int signals[2] = {SIGINT, SIGTERM};
     struct sigaction action;
     memset(&action, 0, sizeof action);
-    action.sa_handler = on ? on_interrupt : SIG_DFL;
+    action.sa_handler = on_interrupt;
     action.sa_flags = SA_RESTART; /* the device's and HDF5's calls go on */
     sigemptyset(&action.sa_mask);
-    sigaction(SIGINT, &action, NULL);
-    sigaction(SIGTERM, &action, NULL);
     if (on)
         interrupt_signal = 0;
+    for (int k = 0; k < 2; ++k) {
+        if (!on) {
+            sigaction(signals[k], &previous[k], NULL);
+            continue;
+        }
+        sigaction(signals[k], NULL, &previous[k]);
+        if (previous[k].sa_handler != SIG_IGN)
+            sigaction(signals[k], &action, NULL);
+    }
 }
 
 static int stop_interrupted(struct loop *L)
@@ -465,8 +500,10 @@ static int stop_interrupted(struct loop *L)
     L->status = "interrupted";
     snprintf(L->message, sizeof L->message, "interrupted by %s at step %ld, t = %.6e s; %s%s",
              sig == SIGINT ? "SIGINT" : "SIGTERM", L->step, L->t,
-             saved ? "resume with: sph resume " : "no checkpoint could be written",
-             saved ? L->out->folder : "");
+             saved ? "resume with: sph resume "
+                   : "no checkpoint could be written now (an earlier one, if any, is still "
+                     "there for sph resume) ",
+             L->out->folder);
     return 128 + sig;
 }
 
@@ -675,11 +712,15 @@ static int open_run(const struct run_options *opt, struct run_resources *r, char
     if (device_open(opt->device, opt->profile, &r->dev, error, size))
         return 2;
     /* before the scene is built: a case the device cannot hold is refused
-     * in milliseconds, not after minutes and gigabytes of host memory */
+     * in milliseconds, not after minutes and gigabytes of host memory. The
+     * estimate counts lattice points: the particles of uniform and box-graded
+     * bodies to within a few per cent (solver_create checks the exact need
+     * with the ghosts); a track-graded body's tube is counted by its bounding
+     * box, far more than it holds, so such cases wait for the exact check */
     const double bytes = points * (double)solver_case_bytes_per_particle(c);
-    if (bytes > (double)r->dev.global_memory)
+    if (!scene_has_track(c) && bytes > (double)r->dev.global_memory)
         return 2 * (snprintf(error, size,
-                             "the case needs at least %.2f GiB of device memory (%zu bytes x %.3g "
+                             "the case needs about %.2f GiB of device memory (%zu bytes x %.3g "
                              "particles) but %s has %.2f GiB; use a coarser dx (for PoCL, "
                              "POCL_MEMORY_LIMIT=<GiB> raises the limit)",
                              bytes / (1 << 30), solver_case_bytes_per_particle(c), points,
@@ -724,7 +765,8 @@ static int run_and_report(struct loop *L, struct run_resources *r)
     if (profile)
         profile->wall_s = profile_clock() - loop_start;
     sph_profiler = NULL;
-    if (profile && report_profile(profile, &r->dev, L->step, r->folder) && code == 0)
+    if (profile && report_profile(profile, &r->dev, L->step - L->first_step, r->folder) &&
+        code == 0)
         code = 1;
     free(profile);
     progress(L, 1);
@@ -782,7 +824,11 @@ static int open_and_start(struct loop *L, struct run_resources *r, struct checkp
         return code == 1 ? 2 : code; /* a solver that cannot be made is the device's */
     }
     say_what_runs(L->opt, r);
-    if (k ? resume_state(L, k, error, size) : start(L, error, size))
+    /* resumed: the CSV files are cut back only once the whole checkpoint
+     * has loaded, so a refused resume leaves the folder as it was */
+    if (k ? resume_state(L, k, error, size) ||
+                output_resume_files(&r->out, r->c->projectile.enabled, error, size)
+          : start(L, error, size))
         return report_start_failure(L, r, error);
     return -1; /* ready to run */
 }

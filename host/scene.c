@@ -254,6 +254,14 @@ static double step_estimate(const struct sph_case *c)
     return c->numerics.end_time / dt;
 }
 
+int scene_has_track(const struct sph_case *c)
+{
+    for (int b = 0; b < c->body_count; ++b)
+        if (c->bodies[b].grading.enabled && c->bodies[b].grading.track_radius > 0)
+            return 1;
+    return 0;
+}
+
 int scene_estimate(const struct sph_case *c, double *points, char *error, size_t error_size)
 {
     double total = 0, largest = -1;

@@ -39,10 +39,15 @@ double grading_points(const struct sph_case *c, const struct case_body *b);
 int grading_fill(const struct sph_case *c, const struct case_body *b,
                  struct sph_particle_sink *out);
 
-/* The lattice points the bodies span (an upper bound of the particles), in
- * floating point before any loop or allocation; non-zero with `error`
- * naming the widest body past 200 million. scene_build calls it first. */
+/* The lattice points the fill visits (an upper bound of the particles: close
+ * for uniform and box-graded bodies, the bounding box of each level's tube
+ * for a track-graded one), in floating point before any loop or
+ * allocation; non-zero with `error` naming the widest body past 200
+ * million, or a run of more than 1e8 steps. scene_build calls it first. */
 int scene_estimate(const struct sph_case *c, double *points, char *error, size_t error_size);
+
+/* Whether a body is graded about a track (its estimate is a loose bound). */
+int scene_has_track(const struct sph_case *c);
 
 /* Fills `scene` from `c`. Returns 0, or non-zero with one sentence in
  * `error` (no particles, overlapping loads, empty group). */

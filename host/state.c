@@ -144,9 +144,12 @@ cl_mem solver_create_buffer(struct solver *s, size_t bytes)
     CL_CHECK_ERR("clCreateBuffer", err);
     /* zeroed: nothing a kernel reads is ever undefined, the ghost slots
      * and the padding of a reduction included (oclgrind --uninitialized) */
-    void *zeros = m ? CHECKED_CALLOC(1, bytes, "zeros for a buffer") : NULL;
-    if (zeros)
-        CL_CHECK(clEnqueueWriteBuffer(s->dev->queue, m, CL_TRUE, 0, bytes, zeros, 0, NULL, NULL));
+    static const size_t block = (size_t)16 << 20; /* one 16 MiB block of zeros, written over */
+    void *zeros = m ? CHECKED_CALLOC(1, bytes < block ? bytes : block, "zeros for a buffer") : NULL;
+    for (size_t at = 0; zeros && at < bytes; at += block)
+        CL_CHECK(clEnqueueWriteBuffer(s->dev->queue, m, CL_TRUE, at,
+                                      bytes - at < block ? bytes - at : block, zeros, 0, NULL,
+                                      NULL));
     free(zeros);
     return m;
 }

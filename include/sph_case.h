@@ -27,7 +27,7 @@ enum sph_load_law {
 };
 
 /* Passes 1 and 2: 8 particles per work-item (lanes, for CPUs), one (plain,
- * for GPUs), or by the device (auto: case_choose_loop). */
+ * for GPUs), or by the device (auto: solver_choose_loop, host/state.c). */
 enum sph_neighbour_loop { SPH_LOOP_LANES = 0, SPH_LOOP_PLAIN = 1, SPH_LOOP_AUTO = 2 };
 
 enum sph_shape { SPH_SHAPE_BOX = 0, SPH_SHAPE_CYLINDER = 1 };

@@ -47,7 +47,7 @@ def main():
                             f"{summary['message']!r} (expected output_error, {what!r})")
     except (OSError, ValueError, KeyError) as e:
         problems.append(f"summary.json not readable: {e}")
-    leftovers = glob.glob(os.path.join(work, ".*.tmp"))
+    leftovers = glob.glob(os.path.join(work, ".*.tmp")) + glob.glob(os.path.join(work, "*.tmp"))
     if leftovers:
         problems.append(f"temporary files left: {leftovers}")
     for snap in glob.glob(os.path.join(work, "snap_*.h5")):

@@ -5,8 +5,8 @@ never interrupted.
 usage: check_resume.py SPH CASE WORK_DIR [--raise-at-step N] [--set K=V ...]
 
 1. reference: CASE run to its end with output.checkpoint_interval set, so
-   the folder ends with a checkpoint part-way (checkpoints only read the
-   device, so this is also the uninterrupted run);
+   the folder ends with a checkpoint part-way; it must be identical to the
+   same run without checkpoints (they only read the device);
 2. interrupted: the same run, sent SIGINT once its history has a fifth of
    its rows (or, with --raise-at-step, raising SIGINT itself after step N:
    SPH_RAISE_AT_STEP, for runs too short to catch from outside): it must exit 130 with status "interrupted" in summary.json and
@@ -16,7 +16,8 @@ usage: check_resume.py SPH CASE WORK_DIR [--raise-at-step N] [--set K=V ...]
 3. resume of the reference folder redoes the tail after its last
    checkpoint, again identically;
 4. refusals: a folder without a checkpoint, and a case.resolved.yaml
-   edited after the checkpoint, exit 1 with a message that says so.
+   edited after the checkpoint, exit 1 with a message that says so and
+   leave history.csv as it was.
 """
 import json
 import os
@@ -47,6 +48,27 @@ def rows(path):
         return sum(1 for _ in f)
 
 
+def same_group(ga, gb):
+    """The first difference between two HDF5 groups, recursively: names,
+    attributes and every dataset's values; None when identical."""
+    if set(ga.keys()) != set(gb.keys()):
+        return f"{ga.name}: members {sorted(ga.keys())} against {sorted(gb.keys())}"
+    if set(ga.attrs.keys()) != set(gb.attrs.keys()):
+        return f"{ga.name}: other attributes"
+    for key in ga.attrs:
+        if not np.array_equal(np.asarray(ga.attrs[key]), np.asarray(gb.attrs[key])):
+            return f"{ga.name}: attribute {key} differs"
+    for key in ga:
+        a, b = ga[key], gb[key]
+        if isinstance(a, h5py.Group):
+            problem = same_group(a, b)
+            if problem:
+                return problem
+        elif not np.array_equal(a[()], b[()], equal_nan=True):
+            return f"{a.name} differs"
+    return None
+
+
 def same_outputs(a, b, what):
     for name in ("history.csv", "ballistics.csv", "snapshots.xdmf"):
         pa, pb = os.path.join(a, name), os.path.join(b, name)
@@ -59,10 +81,9 @@ def same_outputs(a, b, what):
         fail(f"{what}: other snapshot files")
     for s in snaps:
         with h5py.File(os.path.join(a, s)) as fa, h5py.File(os.path.join(b, s)) as fb:
-            for k in fa:
-                if isinstance(fa[k], h5py.Dataset) and not np.array_equal(
-                        fa[k][()], fb[k][()], equal_nan=True):
-                    fail(f"{what}: {s}:{k} differs")
+            problem = same_group(fa, fb)
+            if problem:
+                fail(f"{what}: {s}: {problem}")
     print(f"{what}: history, snapshots ({len(snaps)}) identical")
 
 
@@ -77,6 +98,12 @@ def main():
     ref, cut = os.path.join(work, "reference"), os.path.join(work, "interrupted")
     run(sph, ["run", case, "--out", ref, "--quiet"] + sets, 0)
     total = rows(os.path.join(ref, "history.csv"))
+    # checkpoints only read the device: the reference, which wrote them, is
+    # the run without any
+    plain = os.path.join(work, "no_checkpoints")
+    run(sph, ["run", case, "--out", plain, "--quiet"] + sets +
+        ["--set", "output.checkpoint_interval=0", "--set", "output.checkpoint_wall_interval=0"], 0)
+    same_outputs(plain, ref, "with checkpoints against without")
 
     env = dict(os.environ)
     if raise_at:
@@ -114,9 +141,12 @@ def main():
         fail(f"resume without a checkpoint: {p.stderr!r}")
     with open(os.path.join(again, "case.resolved.yaml"), "a") as f:
         f.write("# edited\n")
+    before = open(os.path.join(again, "history.csv"), "rb").read()
     p = run(sph, ["resume", again], 1)
     if "is not the case" not in p.stderr:
         fail(f"resume of an edited case: {p.stderr!r}")
+    if open(os.path.join(again, "history.csv"), "rb").read() != before:
+        fail("a refused resume changed history.csv")
     print("refusals: no checkpoint, edited case: exit 1 with the reason")
 
 

@@ -664,6 +664,20 @@ static void test_round_trip_minimal(void **state)
     drop_file(path);
 }
 
+/* A resumed run reloads the resolved case, so the resolved case must load
+ * back to the same bits: an oblique wall normal, normalised once, is not
+ * normalised again (twice moved its last digits). */
+static void test_round_trip_oblique_wall(void **state)
+{
+    (void)state;
+    char *path = temp_file(MINIMAL "numerics: {dx: 1e-3, end_time: 1e-3}\n"
+                                   "walls:\n"
+                                   "  - {name: a, point: [0, -0.01], normal: [0.6, 0.8]}\n"
+                                   "  - {name: b, point: [0.2, 0], normal: [-1, 3]}\n");
+    round_trip(path);
+    drop_file(path);
+}
+
 /* In a float run every number must fit a float (it would reach the device
  * as inf or 0); a double run takes it. */
 static void test_float_range(void **state)
@@ -730,9 +744,9 @@ int main(void)
         cmocka_unit_test(test_set_errors_walk),    cmocka_unit_test(test_round_trip_beam),
         cmocka_unit_test(test_round_trip_3d),      cmocka_unit_test(test_round_trip_minimal),
         cmocka_unit_test(test_float_range),        cmocka_unit_test(test_wall_normal_scaled),
-        cmocka_unit_test(test_set_alias_bomb),
+        cmocka_unit_test(test_set_alias_bomb),     cmocka_unit_test(test_round_trip_oblique_wall),
     };
-    int n = 15;
+    int n = 16;
     const int bad = (int)(sizeof bad_inputs / sizeof *bad_inputs);
     if (n + bad > (int)(sizeof tests / sizeof *tests)) {
         fprintf(stderr, "test_case: the test table is too small\n");
