@@ -556,6 +556,10 @@ int device_build(struct sph_device *dev, const char *source_dir, const char *opt
     device_cache_file(dev, "program", source, options, "bin", path, sizeof path);
     dev->program = load_cached(dev, path, options);
     dev->from_cache = dev->program != NULL;
+    /* one checked call for the program's creation on either path, so that
+     * SPH_FAIL_CL_CALL=N names the same call with a cold or a warm cache */
+    if (dev->program)
+        CL_CHECK_ERR("clCreateProgramWithBinary", CL_SUCCESS);
     if (!dev->program) {
         cl_int err = CL_SUCCESS;
         const char *sources[1] = {source};
@@ -582,6 +586,12 @@ int device_build(struct sph_device *dev, const char *source_dir, const char *opt
 
 void device_close(struct sph_device *dev)
 {
+    /* what was enqueued must finish before the process exits: PoCL compiles
+     * a kernel at its first launch in a thread of its own, which crashed
+     * when a run stopped early (a binding error) and exit() tore LLVM down
+     * under it. Unchecked: a failed device has nothing left to finish. */
+    if (dev->queue)
+        clFinish(dev->queue);
     if (dev->program)
         clReleaseProgram(dev->program);
     if (dev->queue)
