@@ -284,6 +284,16 @@ int scene_estimate(const struct sph_case *c, double *points, char *error, size_t
                         "smaller bodies",
                         c->path, total, c->numerics.dx, c->bodies[widest].name, largest,
                         MAX_PARTICLES / 1e6) > 0;
+    for (int m = 0; m < c->material_count; ++m) {
+        const double speed = solver_material_sound_speed(&c->materials[m]);
+        if (!(speed > 0) || !isfinite(speed))
+            return snprintf(error, error_size,
+                            "%s: material '%s' has no positive, finite sound speed at its density "
+                            "(%g m/s): its EOS's bulk modulus plus 4/3 of its shear modulus must "
+                            "be positive there (check youngs_modulus, poisson_ratio and the "
+                            "polynomial's c0 and p0)",
+                            c->path, c->materials[m].name, speed) > 0;
+    }
     const double steps = step_estimate(c);
     if (!(steps <= MAX_STEPS))
         return snprintf(error, error_size,

@@ -203,6 +203,9 @@ struct solver {
     struct projectile projectile;
 };
 
+/* A material's longitudinal sound speed at rho0 from its EOS and shear
+ * modulus, m/s (NaN when the EOS's bulk modulus there is negative). */
+double solver_material_sound_speed(const struct case_material *cm);
 /* The largest longitudinal sound speed over the case's materials, m/s. */
 double solver_max_sound_speed(const struct sph_case *c);
 

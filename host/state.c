@@ -270,6 +270,11 @@ static void upload_materials(struct solver *s, const struct sph_case *c)
 }
 
 /* The largest sound speed over the materials (for dt and the velocity limit). */
+double solver_material_sound_speed(const struct case_material *cm)
+{
+    return material_entry(cm).sound_speed;
+}
+
 double solver_max_sound_speed(const struct sph_case *c)
 {
     double c_max = 0;

@@ -47,12 +47,13 @@ fi
 
 # HDF5's headers are not needed by the sources below; they are passed in case
 # a header comes to include them.
-HDF5_FLAGS=$(pkg-config --cflags hdf5 2>/dev/null || echo -I/usr/include/hdf5/serial)
-HDF5_LIBS=$(pkg-config --libs hdf5 2>/dev/null || echo -lhdf5)
-CFLAGS=(-std=c11 -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined
+read -ra HDF5_FLAGS <<<"$(pkg-config --cflags hdf5 2>/dev/null || echo -I/usr/include/hdf5/serial)"
+read -ra HDF5_LIBS <<<"$(pkg-config --libs hdf5 2>/dev/null || echo -lhdf5)"
+SANITIZE=-fsanitize=fuzzer,address,undefined
+CFLAGS=(-std=c11 -g -O1 "$SANITIZE" -fno-sanitize-recover=undefined
     -fno-omit-frame-pointer -Wall -Wextra -Wno-unused-parameter
     -D_DEFAULT_SOURCE -DCL_TARGET_OPENCL_VERSION=120 "-DSPH_SOURCE_DIR=\"$SOURCE_DIR\""
-    -I"$SOURCE_DIR/include" -I"$SOURCE_DIR/host" $HDF5_FLAGS)
+    -I"$SOURCE_DIR/include" -I"$SOURCE_DIR/host" "${HDF5_FLAGS[@]}")
 # case.c, scene.c and grading.c are what is fuzzed; state.c has
 # solver_max_sound_speed (scene_estimate's step count), and device.c and
 # fields.c are what state.c links against. Nothing opens a device.
@@ -73,7 +74,7 @@ if ! "$CC" "${CFLAGS[@]}" "$SOURCE_DIR/tests/fuzz_case.c" "${SOURCES[@]/#/$SOURC
         [ "$(basename "$f")" = main.c ] || ALL+=("$f")
     done
     if ! "$CC" "${CFLAGS[@]}" "$SOURCE_DIR/tests/fuzz_case.c" "${ALL[@]}" -o "$BINARY" \
-        -lyaml -lOpenCL $HDF5_LIBS -lm >"$WORK_DIR/build.log" 2>&1; then
+        -lyaml -lOpenCL "${HDF5_LIBS[@]}" -lm >"$WORK_DIR/build.log" 2>&1; then
         cat "$WORK_DIR/build.log" >&2
         echo "FAIL: the case fuzzer does not build" >&2
         exit 1
@@ -96,13 +97,13 @@ for f in "$SOURCE_DIR"/cases/*.yaml; do
     stem=$(basename "$f" .yaml)
     cp "$f" "$SEEDS/$stem.yaml"
     s=${SELECTORS[i % ${#SELECTORS[@]}]}
-    { printf "\\$(printf '%03o' "$s")"; cat "$f"; } >"$SEEDS/$stem.set$s.yaml"
+    { printf '%b' "\\0$(printf '%03o' "$s")"; cat "$f"; } >"$SEEDS/$stem.set$s.yaml"
     i=$((i + 1))
 done
 # Every override on one small case.
 if [ -f "$SOURCE_DIR/cases/beam_2d.yaml" ]; then
     for s in "${SELECTORS[@]}"; do
-        { printf "\\$(printf '%03o' "$s")"; cat "$SOURCE_DIR/cases/beam_2d.yaml"; } \
+        { printf '%b' "\\0$(printf '%03o' "$s")"; cat "$SOURCE_DIR/cases/beam_2d.yaml"; } \
             >"$SEEDS/beam_2d.all$s.yaml"
     done
 fi
@@ -125,7 +126,11 @@ STATUS=$?
 # The last status line and the final statistics.
 grep -E '^#[0-9]+.*(DONE|pulse|NEW|REDUCE)' "$LOG" | tail -1
 grep -E '^stat::' "$LOG"
-echo "corpus: $(find "$CORPUS" -type f | wc -l) inputs"
+echo "corpus directory: $(find "$CORPUS" -type f | wc -l) files (libFuzzer's corp: counts the seeds too)"
+if [ $STATUS -eq 72 ]; then
+    echo "FAIL: interrupted (log $LOG)" >&2
+    exit 1
+fi
 if [ $STATUS -ne 0 ] || grep -qE 'runtime error:|ERROR: (AddressSanitizer|LeakSanitizer|libFuzzer)|SUMMARY: ' "$LOG"; then
     grep -nE 'runtime error:|ERROR:|SUMMARY:|fuzz_case:|Test unit written' "$LOG" | head -20 >&2
     echo "FAIL: the case fuzzer found a problem (libFuzzer exit $STATUS; log $LOG;" \
@@ -133,4 +138,19 @@ if [ $STATUS -ne 0 ] || grep -qE 'runtime error:|ERROR: (AddressSanitizer|LeakSa
     exit 1
 fi
 echo "PASS: no crash, leak, timeout or sanitizer report in $SECONDS_TO_RUN s"
+
+# The corpus directory keeps every input that once added coverage: past
+# 2000 files it is minimised (libFuzzer -merge=1) to the ones still needed.
+FILES=$(find "$CORPUS" -type f | wc -l)
+if [ "$FILES" -gt 2000 ]; then
+    rm -rf "$CORPUS.merged" && mkdir -p "$CORPUS.merged" || exit 1
+    if TMPDIR=$FUZZ_TMP "$BINARY" -merge=1 -timeout=10 -rss_limit_mb=2048 "$CORPUS.merged" \
+        "$CORPUS" >"$WORK_DIR/merge.log" 2>&1; then
+        rm -rf "$CORPUS" && mv "$CORPUS.merged" "$CORPUS"
+        echo "corpus directory minimised from $FILES to $(find "$CORPUS" -type f | wc -l) files"
+    else
+        rm -rf "$CORPUS.merged"
+        echo "note: minimising the corpus failed (see $WORK_DIR/merge.log); it is left as it was"
+    fi
+fi
 exit 0
