@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "device.h"
+#include "output.h"
 #include "profile.h"
 #include "scene.h"
 #include "solver.h"
@@ -278,7 +279,8 @@ int bench_main(const struct bench_options *o)
         code = 1;
     }
     if (code == 0 && o->json_path) {
-        FILE *f = fopen(o->json_path, "w");
+        char temporary[SPH_PATH_MAX + 32];
+        FILE *f = output_file_begin(o->json_path, temporary, sizeof temporary);
         if (!f) {
             fprintf(stderr, "sph bench: cannot write %s\n", o->json_path);
             code = 1;
@@ -292,7 +294,7 @@ int bench_main(const struct bench_options *o)
                 fprintf(f, "%s\n", k + 1 < done ? "," : "");
             }
             fprintf(f, "  ]\n}\n");
-            if (fclose(f) != 0)
+            if (output_file_commit(f, temporary, o->json_path) != 0)
                 code = 1;
             else
                 fprintf(stderr, "sph bench: wrote %s\n", o->json_path);

@@ -572,9 +572,9 @@ static int report_profile(struct profiler *p, struct sph_device *dev, long steps
     printf("profile over %ld steps on %s (ceilings: %.1f GB/s copy, %.1f GFLOP/s FMA)\n", steps,
            dev->name, ceilings.bandwidth_gb_s, ceilings.gflop_s);
     profile_print(p, have_ceilings ? &ceilings : NULL, steps, stdout);
-    char path[SPH_PATH_MAX + 32];
+    char path[SPH_PATH_MAX + 32], temporary[SPH_PATH_MAX + 48];
     snprintf(path, sizeof path, "%s/profile.json", folder);
-    FILE *f = fopen(path, "w");
+    FILE *f = output_file_begin(path, temporary, sizeof temporary);
     if (!f) {
         fprintf(stderr, "sph: cannot write %s\n", path);
         return 1;
@@ -587,7 +587,7 @@ static int report_profile(struct profiler *p, struct sph_device *dev, long steps
             ceilings.bandwidth_gb_s, ceilings.gflop_s);
     profile_write_json(p, steps, f);
     fprintf(f, "\n}\n");
-    return fclose(f) != 0;
+    return output_file_commit(f, temporary, path);
 }
 
 static void default_folder(const struct sph_case *c, char *folder, size_t size)
