@@ -183,8 +183,8 @@ void solver_projectile_contact(struct solver *s, double dt, double dt_prev)
              real_value(s, &a_dx, "dx", s->dx), real_value(s, &a_dt, "dt", dt),
              real_value(s, &a_prev, "dt_prev", dt_prev), MEM("partials", p->contact_partials),
              INT("n", s->n));
-    solver_launch(s, s->k.projectile_contact, (size_t)s->reduce_groups * REDUCE_GROUP_SIZE,
-                  REDUCE_GROUP_SIZE);
+    solver_launch(s, s->k.projectile_contact, (size_t)s->reduce_groups * REDUCE_GROUP,
+                  REDUCE_GROUP);
 }
 
 void solver_projectile_advance(struct solver *s, double dt, double dt_prev)
@@ -211,8 +211,7 @@ static void read_cavity(struct solver *s, struct projectile_reading *out)
              real_value(s, &a_spacing, "probe_spacing", p->probe_spacing),
              INT("probe_count", p->probe_count), real_value(s, &a_dx, "dx", s->dx),
              MEM("partials", s->partials), INT("n", s->n));
-    solver_launch(s, s->k.projectile_cavity, (size_t)s->reduce_groups * REDUCE_GROUP_SIZE,
-                  REDUCE_GROUP_SIZE);
+    solver_launch(s, s->k.projectile_cavity, (size_t)s->reduce_groups * REDUCE_GROUP, REDUCE_GROUP);
     const size_t width = 2 * SPH_MAX_CAVITY_PROBES;
     double *v = CHECKED_CALLOC(width * (size_t)s->reduce_groups, sizeof(double), "cavity partials");
     if (!v)

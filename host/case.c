@@ -741,7 +741,52 @@ static int check_material(struct ctx *x, const struct frame *fr, void *base)
     if (m->failure != SPH_FAILURE_NONE && !plastic)
         return fail(x, line_of(fr, "failure"), subkey(x, "failure"),
                     "needs a yield stress: strength perfectly_plastic or johnson_cook");
+    /* the time step, the viscosity and the contact all divide by it */
+    const double speed = case_material_sound_speed(m);
+    if (!(speed > 0) || !isfinite(speed)) {
+        const char *key = m->eos == SPH_EOS_POLYNOMIAL      ? "polynomial"
+                          : m->eos == SPH_EOS_MIE_GRUNEISEN ? "mie_gruneisen"
+                                                            : "youngs_modulus";
+        return fail(x, line_of(fr, key), subkey(x, key),
+                    "expected a positive, finite sound speed at the reference density, got %g "
+                    "m/s: the EOS's bulk modulus (polynomial: rho c0^2 - gamma0 p0 / 2) plus 4/3 "
+                    "of the shear modulus must be positive",
+                    speed);
+    }
     return 0;
+}
+
+/* |v| without overflow for any finite components. */
+static double norm3(const double v[3])
+{
+    const double largest = fmax(fabs(v[0]), fmax(fabs(v[1]), fabs(v[2])));
+    if (!(largest > 0))
+        return 0;
+    const double a = v[0] / largest, b = v[1] / largest, c = v[2] / largest;
+    return largest * sqrt(a * a + b * b + c * c);
+}
+
+double case_fastest_speed(const struct sph_case *c, int with_projectile)
+{
+    double fastest = with_projectile && c->projectile.enabled ? norm3(c->projectile.velocity) : 0;
+    for (int b = 0; b < c->body_count; ++b)
+        fastest = fmax(fastest, norm3(c->bodies[b].velocity));
+    return fastest;
+}
+
+/* sqrt((K + 4 G / 3) / rho0), K the EOS's bulk modulus at rho0 (dp/dmu at
+ * mu = 0; the elastic one for the linear EOS). */
+double case_material_sound_speed(const struct case_material *m)
+{
+    const double nu = m->poisson_ratio, e = m->youngs_modulus;
+    const double shear = e / (2.0 * (1.0 + nu));
+    double bulk = e / (3.0 * (1.0 - 2.0 * nu));
+    if (m->eos == SPH_EOS_MIE_GRUNEISEN)
+        bulk = m->density * m->mie_gruneisen.c0 * m->mie_gruneisen.c0;
+    else if (m->eos == SPH_EOS_POLYNOMIAL)
+        bulk = m->density * m->polynomial.c0 * m->polynomial.c0 -
+               0.5 * m->polynomial.gamma0 * m->polynomial.p0;
+    return sqrt((bulk + 4.0 * shear / 3.0) / m->density);
 }
 
 static int check_johnson_cook(struct ctx *x, const struct frame *fr, void *base)
@@ -1770,6 +1815,21 @@ int case_write_resolved(const struct sph_case *c, FILE *f)
     fprintf(f, "# %s: the resolved case, every default filled in (SI units)\n", c->name);
     write_map(c, f, &case_schema, (const char *)c, 0, 0);
     return fflush(f) || ferror(f) ? -1 : 0;
+}
+
+char *case_resolved_text(const struct sph_case *c, size_t *length)
+{
+    char *text = NULL;
+    *length = 0;
+    FILE *f = open_memstream(&text, length);
+    if (!f)
+        return NULL;
+    const int bad = case_write_resolved(c, f) != 0;
+    if ((fclose(f) != 0) | bad) {
+        free(text);
+        return NULL;
+    }
+    return text;
 }
 
 const char *case_kernel_name(enum sph_kernel_type k)

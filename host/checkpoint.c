@@ -2,6 +2,8 @@
  * solver's part of them. */
 #include "checkpoint.h"
 
+#include "output.h"
+
 #include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -12,7 +14,7 @@ static void set_names(struct checkpoint *k, const char *folder)
     memset(k, 0, sizeof *k);
     k->file = H5I_INVALID_HID;
     snprintf(k->path, sizeof k->path, "%s/checkpoint.h5", folder);
-    snprintf(k->temporary, sizeof k->temporary, "%s/checkpoint.h5.tmp", folder);
+    output_temporary_name(k->path, k->temporary, sizeof k->temporary);
 }
 
 static void fail(struct checkpoint *k, const char *what, const char *name)
@@ -34,8 +36,8 @@ int checkpoint_begin(struct checkpoint *k, const char *folder)
         snprintf(k->error, sizeof k->error, "cannot write %s", k->temporary);
         return k->failed = 1;
     }
-    const int format = SPH_CHECKPOINT_FORMAT;
-    CHECKPOINT_PUT(k, "", format);
+    int format = SPH_CHECKPOINT_FORMAT;
+    CHECKPOINT_RECORD(k, "", format, 0);
     return 0;
 }
 
@@ -95,7 +97,7 @@ int checkpoint_open(struct checkpoint *k, const char *folder)
         return k->failed = 1;
     }
     int format = 0;
-    CHECKPOINT_GET(k, "", format);
+    CHECKPOINT_RECORD(k, "", format, 1);
     if (!k->failed && format != SPH_CHECKPOINT_FORMAT) {
         snprintf(k->error, sizeof k->error, "%s has format %d; this build reads format %d", k->path,
                  format, SPH_CHECKPOINT_FORMAT);
@@ -146,6 +148,14 @@ void checkpoint_get(struct checkpoint *k, const char *name, void *data, size_t b
         fail(k, "cannot read", name);
 }
 
+void checkpoint_record(struct checkpoint *k, const char *name, void *data, size_t bytes, int load)
+{
+    if (load)
+        checkpoint_get(k, name, data, bytes);
+    else
+        checkpoint_put(k, name, data, bytes);
+}
+
 void checkpoint_close(struct checkpoint *k)
 {
     if (k->file >= 0)
@@ -181,56 +191,26 @@ static size_t buffer_bytes(cl_mem m)
     return bytes;
 }
 
-static void save_buffer(struct solver *s, struct checkpoint *k, const char *name, cl_mem m,
-                        size_t bytes)
+/* One device buffer into the checkpoint (load 0) or back (load 1), through
+ * a host copy. */
+static void transfer(struct solver *s, struct checkpoint *k, const char *name, cl_mem m,
+                     size_t bytes, int load)
 {
     void *host = CHECKED_CALLOC(bytes + 1, 1, "checkpoint buffer");
     if (!host) {
         fail(k, "out of host memory for", name);
         return;
     }
-    CL_CHECK(clEnqueueReadBuffer(s->dev->queue, m, CL_TRUE, 0, bytes, host, 0, NULL, NULL));
-    checkpoint_put(k, name, host, bytes);
-    free(host);
-}
-
-static void load_buffer(struct solver *s, struct checkpoint *k, const char *name, cl_mem m,
-                        size_t bytes)
-{
-    void *host = CHECKED_CALLOC(bytes + 1, 1, "checkpoint buffer");
-    if (!host) {
-        fail(k, "out of host memory for", name);
-        return;
+    if (load) {
+        checkpoint_get(k, name, host, bytes);
+        if (!k->failed)
+            CL_CHECK(
+                clEnqueueWriteBuffer(s->dev->queue, m, CL_TRUE, 0, bytes, host, 0, NULL, NULL));
+    } else {
+        CL_CHECK(clEnqueueReadBuffer(s->dev->queue, m, CL_TRUE, 0, bytes, host, 0, NULL, NULL));
+        checkpoint_put(k, name, host, bytes);
     }
-    checkpoint_get(k, name, host, bytes);
-    if (!k->failed)
-        CL_CHECK(clEnqueueWriteBuffer(s->dev->queue, m, CL_TRUE, 0, bytes, host, 0, NULL, NULL));
     free(host);
-}
-
-static void field_name(char *name, size_t size, enum field f)
-{
-    snprintf(name, size, "field.%s", field_table[f].name);
-}
-
-void solver_checkpoint_save(struct solver *s, struct checkpoint *k)
-{
-    CHECKPOINT_PUT(k, "solver.", s->n);
-    CHECKPOINT_PUT(k, "solver.", s->ghosts.count);
-    CHECKPOINT_PUT(k, "solver.", s->grid);
-    CHECKPOINT_PUT(k, "solver.", s->moved_since_sort);
-    char name[128];
-    for (int f = 0; f < FIELD_COUNT; ++f)
-        if (field_table[f].persistent && solver_field_used(s, (enum field)f)) {
-            field_name(name, sizeof name, (enum field)f);
-            save_buffer(s, k, name, s->field[f],
-                        s->element_size[field_table[f].kind] * (size_t)s->n);
-        }
-    const struct named_buffer buffers[] = SOLVER_BUFFERS(s);
-    for (size_t b = 0; b < sizeof buffers / sizeof buffers[0]; ++b)
-        if (*buffers[b].buffer)
-            save_buffer(s, k, buffers[b].name, *buffers[b].buffer,
-                        buffer_bytes(*buffers[b].buffer));
 }
 
 /* The cell buffers are made at the first sort, which a resumed run does not
@@ -247,31 +227,38 @@ static void make_cell_buffers(struct solver *s, struct checkpoint *k)
     }
 }
 
-void solver_checkpoint_load(struct solver *s, struct checkpoint *k)
+/* Every persistent field in use (the n slots of particles and ghosts) and
+ * the other buffers a step reads before writing, one walk for both ways. */
+static void solver_buffers(struct solver *s, struct checkpoint *k, int load)
 {
-    CHECKPOINT_GET(k, "solver.", s->n);
-    CHECKPOINT_GET(k, "solver.", s->ghosts.count);
-    CHECKPOINT_GET(k, "solver.", s->grid);
-    CHECKPOINT_GET(k, "solver.", s->moved_since_sort);
-    if (k->failed || s->n < s->n_real || s->n > s->capacity) {
-        fail(k, "an impossible particle count in", "solver.s->n");
-        return;
-    }
     char name[128];
     for (int f = 0; f < FIELD_COUNT; ++f)
         if (field_table[f].persistent && solver_field_used(s, (enum field)f)) {
-            field_name(name, sizeof name, (enum field)f);
-            load_buffer(s, k, name, s->field[f],
-                        s->element_size[field_table[f].kind] * (size_t)s->n);
+            snprintf(name, sizeof name, "field.%s", field_table[f].name);
+            transfer(s, k, name, s->field[f], s->element_size[field_table[f].kind] * (size_t)s->n,
+                     load);
         }
-    make_cell_buffers(s, k);
+    if (load)
+        make_cell_buffers(s, k);
     const struct named_buffer buffers[] = SOLVER_BUFFERS(s);
     for (size_t b = 0; b < sizeof buffers / sizeof buffers[0]; ++b) {
-        const size_t saved = checkpoint_size(k, buffers[b].name);
-        if (!*buffers[b].buffer != !saved)
+        const cl_mem m = *buffers[b].buffer;
+        if (load && !m != !checkpoint_size(k, buffers[b].name))
             fail(k, "a configuration with other buffers wrote", buffers[b].name);
-        else if (saved)
-            load_buffer(s, k, buffers[b].name, *buffers[b].buffer,
-                        buffer_bytes(*buffers[b].buffer));
+        else if (m)
+            transfer(s, k, buffers[b].name, m, buffer_bytes(m), load);
     }
+}
+
+/* The host values that go with the buffers, then the buffers. */
+void solver_checkpoint_records(struct solver *s, struct checkpoint *k, int load)
+{
+    CHECKPOINT_RECORD(k, "solver.", s->n, load);
+    CHECKPOINT_RECORD(k, "solver.", s->ghosts.count, load);
+    CHECKPOINT_RECORD(k, "solver.", s->grid, load);
+    CHECKPOINT_RECORD(k, "solver.", s->moved_since_sort, load);
+    if (load && !k->failed && (s->n < s->n_real || s->n > s->capacity))
+        fail(k, "an impossible particle count in", "solver.s->n");
+    if (!k->failed)
+        solver_buffers(s, k, load);
 }

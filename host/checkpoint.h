@@ -17,7 +17,7 @@
 
 struct checkpoint {
     hid_t file;
-    char path[SPH_PATH_MAX + 32], temporary[SPH_PATH_MAX + 32];
+    char path[SPH_PATH_MAX + 32], temporary[SPH_PATH_MAX + 48];
     int failed;                   /* a record could not be written or read */
     char error[3 * SPH_PATH_MAX]; /* room for both paths */
 };
@@ -35,14 +35,16 @@ void checkpoint_get(struct checkpoint *k, const char *name, void *data, size_t b
 size_t checkpoint_size(struct checkpoint *k, const char *name);
 void checkpoint_close(struct checkpoint *k);
 
+/* A record written (load 0) or read (load 1): each part of a run lists its
+ * records once, in one function that serves both ways. */
+void checkpoint_record(struct checkpoint *k, const char *name, void *data, size_t bytes, int load);
 /* A plain value or struct by its own name and size. */
-#define CHECKPOINT_PUT(k, prefix, value) checkpoint_put((k), prefix #value, &(value), sizeof(value))
-#define CHECKPOINT_GET(k, prefix, value) checkpoint_get((k), prefix #value, &(value), sizeof(value))
+#define CHECKPOINT_RECORD(k, prefix, value, load)                                                  \
+    checkpoint_record((k), prefix #value, &(value), sizeof(value), (load))
 
 /* The solver's state on the device and the host values that go with it:
  * every persistent field in use (field_table), the sort keys and cell
  * ranges, the ghosts' lists and the projectile. */
-void solver_checkpoint_save(struct solver *s, struct checkpoint *k);
-void solver_checkpoint_load(struct solver *s, struct checkpoint *k);
+void solver_checkpoint_records(struct solver *s, struct checkpoint *k, int load);
 
 #endif

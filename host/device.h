@@ -11,7 +11,8 @@
 #include <stddef.h>
 #include <stdio.h>
 
-/* Work-group size of the reduction kernels (REDUCE_WG in kernels/common.cl). */
+/* Work-group size of the reduction kernels (REDUCE_WG in kernels/common.cl),
+ * checked against the device at device_open. */
 #define REDUCE_GROUP 64
 
 struct sph_device {

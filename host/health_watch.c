@@ -25,35 +25,19 @@ int health_watch_open(struct health_watch *h, struct solver *s, int count_now)
     return 0;
 }
 
-/* The watch's records in a checkpoint: one list for saving and loading
- * (its neighbours array is scratch). */
-#define HEALTH_RECORDS(X)                                                                          \
-    do {                                                                                           \
-        X(h->min_pair_distance);                                                                   \
-        X(h->max_clumped);                                                                         \
-        X(h->max_swegle);                                                                          \
-        X(h->first_unhealthy_time);                                                                \
-        X(h->reason);                                                                              \
-        X(h->stop);                                                                                \
-        X(h->max_neighbour_loss);                                                                  \
-    } while (0)
-
-void health_watch_save(const struct health_watch *h, int n, struct checkpoint *k)
+void health_watch_records(struct health_watch *h, int n, struct checkpoint *k, int load)
 {
-#define SAVE(value) CHECKPOINT_PUT(k, "health.", value)
-    HEALTH_RECORDS(SAVE);
-#undef SAVE
-    checkpoint_put(k, "health.initial_neighbours", h->initial_neighbours, sizeof(int) * (size_t)n);
-    checkpoint_put(k, "health.damaged", h->damaged, (size_t)n);
-}
-
-void health_watch_load(struct health_watch *h, int n, struct checkpoint *k)
-{
-#define LOAD(value) CHECKPOINT_GET(k, "health.", value)
-    HEALTH_RECORDS(LOAD);
-#undef LOAD
-    checkpoint_get(k, "health.initial_neighbours", h->initial_neighbours, sizeof(int) * (size_t)n);
-    checkpoint_get(k, "health.damaged", h->damaged, (size_t)n);
+    CHECKPOINT_RECORD(k, "health.", h->min_pair_distance, load);
+    CHECKPOINT_RECORD(k, "health.", h->max_clumped, load);
+    CHECKPOINT_RECORD(k, "health.", h->max_swegle, load);
+    CHECKPOINT_RECORD(k, "health.", h->first_unhealthy_time, load);
+    CHECKPOINT_RECORD(k, "health.", h->reason, load);
+    CHECKPOINT_RECORD(k, "health.", h->stop, load);
+    CHECKPOINT_RECORD(k, "health.", h->max_neighbour_loss, load);
+    /* the neighbours array is scratch */
+    checkpoint_record(k, "health.initial_neighbours", h->initial_neighbours,
+                      sizeof(int) * (size_t)n, load);
+    checkpoint_record(k, "health.damaged", h->damaged, (size_t)n, load);
 }
 
 void health_watch_close(struct health_watch *h)

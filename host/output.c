@@ -31,12 +31,25 @@ int make_folders(const char *path)
     return 0;
 }
 
-FILE *output_file_begin(const char *path, char *temporary, size_t size)
+void output_temporary_name(const char *path, char *temporary, size_t size)
 {
     const char *slash = strrchr(path, '/');
     const int folder = slash ? (int)(slash - path + 1) : 0;
     snprintf(temporary, size, "%.*s.%s.tmp", folder, path, path + folder);
+}
+
+FILE *output_file_begin(const char *path, char *temporary, size_t size)
+{
+    output_temporary_name(path, temporary, size);
     return fopen(temporary, "w");
+}
+
+/* Flushes the CSV files; non-zero when a write to them failed (the disk,
+ * a file size limit). */
+static int flush_csv(struct output *o)
+{
+    return fflush(o->history) != 0 || ferror(o->history) ||
+           (o->ballistics && (fflush(o->ballistics) != 0 || ferror(o->ballistics)));
 }
 
 int output_file_commit(FILE *f, const char *temporary, const char *path)
@@ -132,26 +145,36 @@ static FILE *reopen_csv(const char *folder, const char *name, long length, char 
     return f;
 }
 
+/* The outputs' records in a checkpoint, one list for both ways; the
+ * snapshot times follow, their count long. */
+static void output_records(struct output *o, struct checkpoint *k, int load)
+{
+    CHECKPOINT_RECORD(k, "output.", o->resume_history_bytes, load);
+    CHECKPOINT_RECORD(k, "output.", o->resume_ballistics_bytes, load);
+    CHECKPOINT_RECORD(k, "output.", o->snapshot_count, load);
+    CHECKPOINT_RECORD(k, "output.", o->wall_centre, load);
+    CHECKPOINT_RECORD(k, "output.", o->wall_half_width, load);
+    CHECKPOINT_RECORD(k, "output.", o->cavity_probes, load);
+    if (load && !k->failed && (o->snapshot_count < 1 || o->snapshot_count > SPH_MAX_SNAPSHOTS)) {
+        snprintf(k->error, sizeof k->error, "%s: impossible snapshot count %d", k->path,
+                 o->snapshot_count);
+        k->failed = 1;
+    }
+    checkpoint_record(k, "output.snapshot_times", o->snapshot_times,
+                      sizeof(double) * (size_t)o->snapshot_count, load);
+}
+
 void output_checkpoint_save(struct output *o, struct checkpoint *k)
 {
     /* a length the files never reached would be cut to on resume */
-    if (fflush(o->history) != 0 || ferror(o->history) ||
-        (o->ballistics && (fflush(o->ballistics) != 0 || ferror(o->ballistics)))) {
+    if (flush_csv(o)) {
         snprintf(k->error, sizeof k->error, "history.csv or ballistics.csv could not be written");
         k->failed = 1;
         return;
     }
-    long history_bytes = ftell(o->history), ballistics_bytes = 0;
-    if (o->ballistics)
-        ballistics_bytes = ftell(o->ballistics);
-    CHECKPOINT_PUT(k, "output.", history_bytes);
-    CHECKPOINT_PUT(k, "output.", ballistics_bytes);
-    CHECKPOINT_PUT(k, "output.", o->snapshot_count);
-    checkpoint_put(k, "output.snapshot_times", o->snapshot_times,
-                   sizeof(double) * (size_t)o->snapshot_count);
-    CHECKPOINT_PUT(k, "output.", o->wall_centre);
-    CHECKPOINT_PUT(k, "output.", o->wall_half_width);
-    CHECKPOINT_PUT(k, "output.", o->cavity_probes);
+    o->resume_history_bytes = ftell(o->history);
+    o->resume_ballistics_bytes = o->ballistics ? ftell(o->ballistics) : 0;
+    output_records(o, k, 0);
 }
 
 int output_resume(struct output *o, const char *folder, const struct sph_case *c, int particles,
@@ -159,20 +182,7 @@ int output_resume(struct output *o, const char *folder, const struct sph_case *c
 {
     if (output_setup(o, folder, c, particles, error, error_size))
         return 1;
-    long history_bytes = 0, ballistics_bytes = 0;
-    CHECKPOINT_GET(k, "output.", history_bytes);
-    CHECKPOINT_GET(k, "output.", ballistics_bytes);
-    CHECKPOINT_GET(k, "output.", o->snapshot_count);
-    if (!k->failed && (o->snapshot_count < 1 || o->snapshot_count > SPH_MAX_SNAPSHOTS))
-        return snprintf(error, error_size, "%s: impossible snapshot count %d", k->path,
-                        o->snapshot_count) > 0;
-    checkpoint_get(k, "output.snapshot_times", o->snapshot_times,
-                   sizeof(double) * (size_t)o->snapshot_count);
-    CHECKPOINT_GET(k, "output.", o->wall_centre);
-    CHECKPOINT_GET(k, "output.", o->wall_half_width);
-    CHECKPOINT_GET(k, "output.", o->cavity_probes);
-    o->resume_history_bytes = history_bytes;
-    o->resume_ballistics_bytes = ballistics_bytes;
+    output_records(o, k, 1);
     if (k->failed)
         return snprintf(error, error_size, "%s", k->error) > 0;
     return 0;
@@ -583,7 +593,7 @@ int output_snapshot(struct output *o, const struct host_fields *f, const struct 
     note_columns(o, f);
     char path[SPH_PATH_MAX + 64], temporary[SPH_PATH_MAX + 80];
     snprintf(path, sizeof path, "%s/snap_%05d.h5", o->folder, o->snapshot_count);
-    snprintf(temporary, sizeof temporary, "%s/.snap_%05d.h5.tmp", o->folder, o->snapshot_count);
+    output_temporary_name(path, temporary, sizeof temporary);
     if (write_snapshot_file(o, temporary, f, meta) != 0 || rename(temporary, path) != 0) {
         remove(temporary);
         snprintf(error, error_size, "cannot write snapshot %s (disk full, or a file size limit?)",
@@ -596,8 +606,7 @@ int output_snapshot(struct output *o, const struct host_fields *f, const struct 
                  strerror(errno));
         return 1;
     }
-    if (fflush(o->history) != 0 || ferror(o->history) ||
-        (o->ballistics && (fflush(o->ballistics) != 0 || ferror(o->ballistics)))) {
+    if (flush_csv(o)) {
         snprintf(error, error_size, "cannot write %s/history.csv or ballistics.csv: %s", o->folder,
                  strerror(errno));
         return 1;

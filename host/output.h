@@ -22,7 +22,7 @@ struct output {
     int wall_count;           /* walls drawn in the XDMF (a square or segment each) */
     double wall_point[SPH_MAX_WALLS][3], wall_normal[SPH_MAX_WALLS][3];
     double wall_centre[SPH_MAX_WALLS][3], wall_half_width; /* placed at the first snapshot */
-    long resume_history_bytes, resume_ballistics_bytes;    /* sph resume: the CSVs' lengths */
+    long resume_history_bytes, resume_ballistics_bytes;    /* the CSVs' lengths at a checkpoint */
     int column_count; /* the particle datasets of a snapshot, for the XDMF index */
     struct snapshot_column {
         const char *name;
@@ -136,6 +136,9 @@ int output_resume_files(struct output *o, int with_ballistics, char *error, size
  * a truncated one: begin, write, commit (non-zero: not written, the
  * temporary removed). */
 FILE *output_file_begin(const char *path, char *temporary, size_t size);
+/* The temporary name alone, for writers that open the file themselves
+ * (HDF5: snapshots, checkpoints). */
+void output_temporary_name(const char *path, char *temporary, size_t size);
 int output_file_commit(FILE *f, const char *temporary, const char *path);
 
 /* mkdir -p */

@@ -350,81 +350,43 @@ static int device_failed(struct loop *L)
 /* ---- checkpoints and interruption */
 
 /* The loop's own records in a checkpoint: the stepping state and each
- * concern's plain struct (host/run_parts.h); the solver, the health watch
- * and the outputs save their own. One list for saving and loading. */
-#define LOOP_RECORDS(X)                                                                            \
-    do {                                                                                           \
-        X(L->t);                                                                                   \
-        X(L->dt);                                                                                  \
-        X(L->dt_cfl);                                                                              \
-        X(L->dt_prev);                                                                             \
-        X(L->dt_initial);                                                                          \
-        X(L->step);                                                                                \
-        X(L->next_history);                                                                        \
-        X(L->next_snapshot);                                                                       \
-        X(L->next_checkpoint);                                                                     \
-        X(L->probe);                                                                               \
-        X(L->window_sum);                                                                          \
-        X(L->window_error_sum);                                                                    \
-        X(L->window_steps);                                                                        \
-        X(L->energy);                                                                              \
-        X(L->impact);                                                                              \
-        X(L->ballistics);                                                                          \
-        X(L->red);                                                                                 \
-    } while (0)
-
-/* The case a checkpoint belongs to: its resolved text, compared on resume. */
-static char *read_resolved_case(const char *folder, size_t *length)
+ * concern's plain struct (host/run_parts.h), written (load 0) or read
+ * (load 1); the solver, the health watch and the outputs keep their own. */
+static void loop_records(struct loop *L, struct checkpoint *k, int load)
 {
-    char path[SPH_PATH_MAX + 32];
-    snprintf(path, sizeof path, "%s/case.resolved.yaml", folder);
-    FILE *f = fopen(path, "rb");
-    char *text = NULL;
-    long size = -1;
-    if (f && fseek(f, 0, SEEK_END) == 0 && (size = ftell(f)) >= 0 && fseek(f, 0, SEEK_SET) == 0 &&
-        (text = CHECKED_CALLOC((size_t)size + 1, 1, "the resolved case")) &&
-        fread(text, 1, (size_t)size, f) != (size_t)size)
-        free(text), text = NULL;
-    if (f)
-        fclose(f);
-    *length = text ? (size_t)size : 0;
-    return text;
+    CHECKPOINT_RECORD(k, "loop.", L->t, load);
+    CHECKPOINT_RECORD(k, "loop.", L->dt, load);
+    CHECKPOINT_RECORD(k, "loop.", L->dt_cfl, load);
+    CHECKPOINT_RECORD(k, "loop.", L->dt_prev, load);
+    CHECKPOINT_RECORD(k, "loop.", L->dt_initial, load);
+    CHECKPOINT_RECORD(k, "loop.", L->step, load);
+    CHECKPOINT_RECORD(k, "loop.", L->next_history, load);
+    CHECKPOINT_RECORD(k, "loop.", L->next_snapshot, load);
+    CHECKPOINT_RECORD(k, "loop.", L->next_checkpoint, load);
+    CHECKPOINT_RECORD(k, "loop.", L->probe, load);
+    CHECKPOINT_RECORD(k, "loop.", L->window_sum, load);
+    CHECKPOINT_RECORD(k, "loop.", L->window_error_sum, load);
+    CHECKPOINT_RECORD(k, "loop.", L->window_steps, load);
+    CHECKPOINT_RECORD(k, "loop.", L->energy, load);
+    CHECKPOINT_RECORD(k, "loop.", L->impact, load);
+    CHECKPOINT_RECORD(k, "loop.", L->ballistics, load);
+    CHECKPOINT_RECORD(k, "loop.", L->red, load);
+    health_watch_records(&L->health, L->s->n_real, k, load);
 }
 
-/* Writes RUN_DIR/checkpoint.h5 (host/checkpoint.h). A failure is reported
- * and the run goes on: the previous checkpoint stays. */
-/* The resolved case as text, from the case in memory (what
- * case.resolved.yaml was written from): an edit of the file during the run
- * is then caught on resume. */
-static char *resolved_case_text(const struct sph_case *c, size_t *length)
-{
-    char *text = NULL;
-    FILE *f = open_memstream(&text, length);
-    if (!f)
-        return NULL;
-    const int bad = case_write_resolved(c, f) != 0;
-    if ((fclose(f) != 0) | bad) {
-        free(text);
-        return NULL;
-    }
-    return text;
-}
-
-/* Writes RUN_DIR/checkpoint.h5 (host/checkpoint.h). A failure is reported
- * and the run goes on: the previous checkpoint stays. */
+/* Writes RUN_DIR/checkpoint.h5 (host/checkpoint.h), with the resolved case
+ * text of the case in memory (sph resume compares the reloaded case's). A
+ * failure is reported and the run goes on: the previous checkpoint stays. */
 static int write_checkpoint(struct loop *L)
 {
     struct checkpoint *k = CHECKED_CALLOC(1, sizeof *k, "the checkpoint");
     size_t length = 0;
-    char *text = resolved_case_text(L->c, &length);
+    char *text = case_resolved_text(L->c, &length);
     int failed = !k || !text;
     if (!failed && checkpoint_begin(k, L->out->folder) == 0) {
         checkpoint_put(k, "case", text, length);
-        solver_checkpoint_save(L->s, k);
-#define SAVE(value) CHECKPOINT_PUT(k, "loop.", value)
-        LOOP_RECORDS(SAVE);
-#undef SAVE
-        health_watch_save(&L->health, L->s->n_real, k);
+        solver_checkpoint_records(L->s, k, 0);
+        loop_records(L, k, 0);
         output_checkpoint_save(L->out, k);
         if (cl_failed()) /* the device did not answer: the records are not the state */
             k->failed = 1, snprintf(k->error, sizeof k->error, "%s", cl_failure());
@@ -634,13 +596,13 @@ static int start(struct loop *L, char *error, size_t size)
     return 0;
 }
 
-/* `sph resume`: the checkpoint must belong to the folder's case. */
-static int open_checkpoint(const char *folder, struct checkpoint *k, char *error, size_t size)
+/* `sph resume`: the checkpoint must belong to the case reloaded from the
+ * folder's case.resolved.yaml (an edit that changes the case is refused). */
+static int same_case(const struct sph_case *c, struct checkpoint *k, char *error, size_t size)
+
 {
-    if (checkpoint_open(k, folder))
-        return snprintf(error, size, "%s", k->error) > 0;
     size_t length = 0;
-    char *text = read_resolved_case(folder, &length);
+    char *text = case_resolved_text(c, &length);
     const size_t saved = checkpoint_size(k, "case");
     char *copy = text ? CHECKED_CALLOC(saved + 1, 1, "the checkpoint's case") : NULL;
     if (copy)
@@ -650,9 +612,9 @@ static int open_checkpoint(const char *folder, struct checkpoint *k, char *error
     free(copy);
     if (!same)
         return snprintf(error, size,
-                        "%s/case.resolved.yaml is not the case %s was written with (edited "
-                        "since?); restore it, or start a new run",
-                        folder, k->path) > 0;
+                        "%s is not the case %s was written with (edited since?); restore it, or "
+                        "start a new run",
+                        c->path, k->path) > 0;
     return 0;
 }
 
@@ -660,13 +622,10 @@ static int open_checkpoint(const char *folder, struct checkpoint *k, char *error
  * the health watch and the loop's records. */
 static int resume_state(struct loop *L, struct checkpoint *k, char *error, size_t size)
 {
-    solver_checkpoint_load(L->s, k);
+    solver_checkpoint_records(L->s, k, 1);
     if (health_watch_open(&L->health, L->s, 0))
         return snprintf(error, size, "out of host memory for %d particles", L->s->n_real) > 0;
-    health_watch_load(&L->health, L->s->n_real, k);
-#define LOAD(value) CHECKPOINT_GET(k, "loop.", value)
-    LOOP_RECORDS(LOAD);
-#undef LOAD
+    loop_records(L, k, 1);
     if (k->failed)
         return snprintf(error, size, "%s", k->error) > 0;
     if (cl_failed())
@@ -851,9 +810,11 @@ int run_case(const struct run_options *opt)
         options.case_path = resolved;
         options.set_count = 0;
     }
-    int code = k && open_checkpoint(opt->out_dir, k, error, sizeof error)
-                   ? 1
+    int code = k && checkpoint_open(k, opt->out_dir)
+                   ? snprintf(error, sizeof error, "%s", k->error) > 0
                    : open_run(&options, r, error, sizeof error);
+    if (!code && k)
+        code = same_case(r->c, k, error, sizeof error);
     if (code) {
         fprintf(stderr, "sph: %s\n", error);
         if (k)

@@ -56,11 +56,11 @@ struct run_clock {
     int quiet;
 };
 /* count_now: the initial neighbour counts from the solver (not on resume:
- * health_watch_load gives them) */
+ * health_watch_records gives them) */
 int health_watch_open(struct health_watch *h, struct solver *s, int count_now);
 struct checkpoint;
-void health_watch_save(const struct health_watch *h, int n, struct checkpoint *k);
-void health_watch_load(struct health_watch *h, int n, struct checkpoint *k);
+/* its records in a checkpoint, written (load 0) or read (load 1) */
+void health_watch_records(struct health_watch *h, int n, struct checkpoint *k, int load);
 void health_watch_close(struct health_watch *h);
 /* a history row's indicators: returns non-zero (and writes `message`) when
  * the run must stop (health.stop) */

@@ -227,23 +227,11 @@ static int apply_groups(const struct sph_case *c, struct sph_scene *s, const int
 /* A run longer than this is a typo (a time in ns given as s), not a study. */
 #define MAX_STEPS 1e8
 
-static double norm3(const double v[3])
-{
-    const double largest = fmax(fabs(v[0]), fmax(fabs(v[1]), fabs(v[2])));
-    if (!(largest > 0))
-        return 0;
-    const double a = v[0] / largest, b = v[1] / largest, c = v[2] / largest;
-    return largest * sqrt(a * a + b * b + c * c);
-}
-
 /* The first step's signal speed: the stiffest material's sound speed plus
  * the fastest body or projectile, m/s. */
 static double signal_speed(const struct sph_case *c)
 {
-    double fastest = c->projectile.enabled ? norm3(c->projectile.velocity) : 0;
-    for (int b = 0; b < c->body_count; ++b)
-        fastest = fmax(fastest, norm3(c->bodies[b].velocity));
-    return solver_max_sound_speed(c) + fastest;
+    return solver_max_sound_speed(c) + case_fastest_speed(c, 1);
 }
 
 /* Steps to end_time at the first step's time step: a lower bound (the step
@@ -284,16 +272,6 @@ int scene_estimate(const struct sph_case *c, double *points, char *error, size_t
                         "smaller bodies",
                         c->path, total, c->numerics.dx, c->bodies[widest].name, largest,
                         MAX_PARTICLES / 1e6) > 0;
-    for (int m = 0; m < c->material_count; ++m) {
-        const double speed = solver_material_sound_speed(&c->materials[m]);
-        if (!(speed > 0) || !isfinite(speed))
-            return snprintf(error, error_size,
-                            "%s: material '%s' has no positive, finite sound speed at its density "
-                            "(%g m/s): its EOS's bulk modulus plus 4/3 of its shear modulus must "
-                            "be positive there (check youngs_modulus, poisson_ratio and the "
-                            "polynomial's c0 and p0)",
-                            c->path, c->materials[m].name, speed) > 0;
-    }
     const double steps = step_estimate(c);
     if (!(steps <= MAX_STEPS))
         return snprintf(error, error_size,

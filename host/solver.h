@@ -15,10 +15,6 @@
  * supports. */
 #define SPH_GRID_SKIN 0.2
 
-/* Work-group size of the reduction kernels: REDUCE_WG in kernels/common.cl,
- * checked against the device at device_open. */
-#define REDUCE_GROUP_SIZE REDUCE_GROUP
-
 /* Host evaluations of the device's smoothing kernels (kernels/smoothing.cl
  * compiled as C, see host/smoothing.c). */
 double sph_support_q(int kernel);
@@ -203,9 +199,6 @@ struct solver {
     struct projectile projectile;
 };
 
-/* A material's longitudinal sound speed at rho0 from its EOS and shear
- * modulus, m/s (NaN when the EOS's bulk modulus there is negative). */
-double solver_material_sound_speed(const struct case_material *cm);
 /* The largest longitudinal sound speed over the case's materials, m/s. */
 double solver_max_sound_speed(const struct sph_case *c);
 

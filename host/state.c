@@ -143,14 +143,19 @@ cl_mem solver_create_buffer(struct solver *s, size_t bytes)
     cl_mem m = clCreateBuffer(s->dev->context, CL_MEM_READ_WRITE, bytes, NULL, &err);
     CL_CHECK_ERR("clCreateBuffer", err);
     /* zeroed: nothing a kernel reads is ever undefined, the ghost slots
-     * and the padding of a reduction included (oclgrind --uninitialized) */
-    static const size_t block = (size_t)16 << 20; /* one 16 MiB block of zeros, written over */
-    void *zeros = m ? CHECKED_CALLOC(1, bytes < block ? bytes : block, "zeros for a buffer") : NULL;
-    for (size_t at = 0; zeros && at < bytes; at += block)
-        CL_CHECK(clEnqueueWriteBuffer(s->dev->queue, m, CL_TRUE, at,
+     * and the padding of a reduction included (oclgrind --uninitialized,
+     * which does not count clEnqueueFillBuffer as a write). One 16 MiB
+     * block of zeros, kept for the process, is written over it without
+     * waiting: a buffer made during a re-sort (a grown grid) costs no
+     * synchronisation. */
+    static const size_t block = (size_t)16 << 20;
+    static void *zeros;
+    if (m && !zeros)
+        zeros = CHECKED_CALLOC(1, block, "zeros for new buffers");
+    for (size_t at = 0; m && zeros && at < bytes; at += block)
+        CL_CHECK(clEnqueueWriteBuffer(s->dev->queue, m, CL_FALSE, at,
                                       bytes - at < block ? bytes - at : block, zeros, 0, NULL,
                                       NULL));
-    free(zeros);
     return m;
 }
 
@@ -194,17 +199,6 @@ static void upload_ints(struct solver *s, cl_mem buffer, const int *values, int 
                                   values, 0, NULL, NULL));
 }
 
-/* The bulk modulus at rho0 of the material's EOS (dp/dmu at mu = 0). */
-static double eos_bulk_modulus(const struct case_material *cm, double bulk_from_elasticity)
-{
-    if (cm->eos == SPH_EOS_MIE_GRUNEISEN)
-        return cm->density * cm->mie_gruneisen.c0 * cm->mie_gruneisen.c0;
-    if (cm->eos == SPH_EOS_POLYNOMIAL)
-        return cm->density * cm->polynomial.c0 * cm->polynomial.c0 -
-               0.5 * cm->polynomial.gamma0 * cm->polynomial.p0;
-    return bulk_from_elasticity;
-}
-
 /* The material table in double, from the case. */
 struct material_double {
 #define SPH_DECLARE_DOUBLE(name) cl_double name;
@@ -224,7 +218,7 @@ static struct material_double material_entry(const struct case_material *cm)
     m.density = cm->density;
     m.bulk_modulus = bulk;
     m.shear_modulus = shear;
-    m.sound_speed = sqrt((eos_bulk_modulus(cm, bulk) + 4.0 * shear / 3.0) / cm->density);
+    m.sound_speed = case_material_sound_speed(cm);
     m.yield_stress = cm->yield_stress;
     m.hardening_b = cm->johnson_cook.b;
     m.hardening_n = cm->johnson_cook.n;
@@ -270,11 +264,6 @@ static void upload_materials(struct solver *s, const struct sph_case *c)
 }
 
 /* The largest sound speed over the materials (for dt and the velocity limit). */
-double solver_material_sound_speed(const struct case_material *cm)
-{
-    return material_entry(cm).sound_speed;
-}
-
 double solver_max_sound_speed(const struct sph_case *c)
 {
     double c_max = 0;

@@ -70,11 +70,7 @@ static void fill_run_params(struct solver *s, const struct sph_case *c)
     s->run.damping = (real)num->damping;
     s->run.thickness = (real)(c->dimension == 2 ? c->thickness : 1.0);
     const double c_max = solver_max_sound_speed(c);
-    double v0 = 0;
-    for (int b = 0; b < c->body_count; ++b)
-        v0 = fmax(v0, sqrt(c->bodies[b].velocity[0] * c->bodies[b].velocity[0] +
-                           c->bodies[b].velocity[1] * c->bodies[b].velocity[1] +
-                           c->bodies[b].velocity[2] * c->bodies[b].velocity[2]));
+    const double v0 = case_fastest_speed(c, 0);
     /* Ten times the fastest wave speed plus twice the fastest initial speed:
      * far above any physical particle speed of these cases, and reached
      * within a few steps by a runaway instability. */
@@ -126,7 +122,7 @@ void solver_release(struct solver *s)
 static void read_bounds(struct solver *s, double lo[3], double hi[3])
 {
     SET_ARGS(s, s->k.bounds, MEM("partials", s->bounds_partials), INT("n", s->n));
-    solver_launch(s, s->k.bounds, (size_t)s->reduce_groups * REDUCE_GROUP_SIZE, REDUCE_GROUP_SIZE);
+    solver_launch(s, s->k.bounds, (size_t)s->reduce_groups * REDUCE_GROUP, REDUCE_GROUP);
     const size_t count = 6 * (size_t)s->reduce_groups;
     double values[6 * 64] = {0};
     solver_read_reals(s, s->bounds_partials, count, values);
@@ -385,7 +381,7 @@ void solver_reduce(struct solver *s, const double load[3], struct reduction *out
     struct real4_arg a_load;
     SET_ARGS(s, s->k.reduce, real4_value(s, &a_load, "load_force", load),
              MEM("partials", s->partials), INT("n", s->n));
-    solver_launch(s, s->k.reduce, (size_t)s->reduce_groups * REDUCE_GROUP_SIZE, REDUCE_GROUP_SIZE);
+    solver_launch(s, s->k.reduce, (size_t)s->reduce_groups * REDUCE_GROUP, REDUCE_GROUP);
     double values[64 * SPH_RED_SLOTS] = {0};
     solver_read_reals(s, s->partials, (size_t)s->reduce_groups * SPH_RED_SLOTS, values);
     combine_partials(s, values, out);
@@ -396,7 +392,7 @@ void solver_health(struct solver *s, struct health_reading *out)
     struct real_arg a_dx;
     SET_ARGS(s, s->k.health, real_value(s, &a_dx, "dx", s->dx), MEM("partials", s->partials),
              INT("n", s->n));
-    solver_launch(s, s->k.health, (size_t)s->reduce_groups * REDUCE_GROUP_SIZE, REDUCE_GROUP_SIZE);
+    solver_launch(s, s->k.health, (size_t)s->reduce_groups * REDUCE_GROUP, REDUCE_GROUP);
     double v[64 * SPH_HEALTH_SLOTS] = {0};
     solver_read_reals(s, s->partials, (size_t)s->reduce_groups * SPH_HEALTH_SLOTS, v);
     double min_distance = HUGE_VAL, nb_min = HUGE_VAL, nb_max = 0, sums[SPH_HEALTH_SLOTS] = {0};

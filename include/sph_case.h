@@ -256,6 +256,18 @@ int case_load(const char *path, int set_count, char *const *sets, struct sph_cas
 /* Writes the resolved case (every default filled in) as YAML that case_load
  * accepts. */
 int case_write_resolved(const struct sph_case *c, FILE *f);
+/* The same text in memory (malloc'd, `length` bytes), or NULL when out of
+ * memory. A checkpoint holds it; `sph resume` compares it with the reloaded
+ * case's. */
+char *case_resolved_text(const struct sph_case *c, size_t *length);
+
+/* A material's longitudinal sound speed at its reference density, from its
+ * EOS's bulk modulus and its shear modulus, m/s (case_load refuses a
+ * material where it is not positive and finite). */
+double case_material_sound_speed(const struct case_material *m);
+/* The fastest initial body speed (and the projectile's, with_projectile),
+ * m/s. */
+double case_fastest_speed(const struct sph_case *c, int with_projectile);
 
 const char *case_kernel_name(enum sph_kernel_type k);
 

@@ -16,11 +16,12 @@ usage: check_resume.py SPH CASE WORK_DIR [--raise-at-step N] [--set K=V ...]
 3. resume of the reference folder redoes the tail after its last
    checkpoint, again identically;
 4. refusals: a folder without a checkpoint, and a case.resolved.yaml
-   edited after the checkpoint, exit 1 with a message that says so and
+   whose values were edited after the checkpoint, exit 1 with a message that says so and
    leave history.csv as it was.
 """
 import json
 import os
+import re
 import shutil
 import signal
 import subprocess
@@ -139,8 +140,14 @@ def main():
     p = run(sph, ["resume", empty], 1)
     if "no checkpoint" not in p.stderr:
         fail(f"resume without a checkpoint: {p.stderr!r}")
-    with open(os.path.join(again, "case.resolved.yaml"), "a") as f:
-        f.write("# edited\n")
+    # a comment changes nothing; a value does (the case is compared, not the text)
+    resolved = os.path.join(again, "case.resolved.yaml")
+    text = open(resolved).read()
+    edited = re.sub(r"(\n\s*cfl: )([0-9.eE+-]+)", lambda m: m.group(1) + repr(float(m.group(2)) * 0.9),
+                    text, count=1)
+    if edited == text:
+        fail("no cfl line to edit in the resolved case")
+    open(resolved, "w").write("# a comment\n" + edited)
     before = open(os.path.join(again, "history.csv"), "rb").read()
     p = run(sph, ["resume", again], 1)
     if "is not the case" not in p.stderr:

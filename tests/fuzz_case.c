@@ -17,7 +17,7 @@
  *   - case_load fails with an empty error message, or succeeds with one, or
  *     leaves it unterminated (one input in 32 gets a buffer of 1-24 bytes);
  *   - a material of a valid case has a sound speed that is not positive
- *     (NaN or 0: solver_max_sound_speed of that material alone);
+ *     (NaN or 0: case_material_sound_speed);
  *   - a valid case's case_write_resolved output (documented as YAML that
  *     case_load accepts) does not load back, or loads back to a case that
  *     writes a different text;
@@ -137,18 +137,13 @@ static int is_selector(uint8_t b)
     return b >= 0x01 && b < 0x20 && b != '\t' && b != '\n' && b != '\r';
 }
 
-/* Writes the case to memory; returns the text (malloc'd) and its length. */
+/* The resolved case in memory (case_resolved_text); aborts when it cannot
+ * be written. */
 static char *resolved_text(const struct sph_case *c, size_t *length)
 {
-    char *text = NULL;
-    FILE *f = open_memstream(&text, length);
-    if (!f) {
-        perror("open_memstream");
-        abort();
-    }
-    const int rc = case_write_resolved(c, f);
-    if (fclose(f) != 0 || rc != 0) {
-        fprintf(stderr, "fuzz_case: case_write_resolved failed (rc %d)\n", rc);
+    char *text = case_resolved_text(c, length);
+    if (!text) {
+        fprintf(stderr, "fuzz_case: case_resolved_text failed\n");
         abort();
     }
     return text;
@@ -180,16 +175,12 @@ static void check_round_trip(const struct sph_case *c)
 }
 
 /* Every material of a valid case has a real, positive sound speed
- * (solver_max_sound_speed of the material alone): the time step, the
- * velocity limit and scene_estimate's step count divide by it. */
+ * (case_material_sound_speed; case_load refuses others): the time step, the velocity limit and
+ * scene_estimate's step count divide by it. */
 static void check_sound_speeds(const struct sph_case *c)
 {
-    static struct sph_case one;
-    one = *c;
-    one.material_count = 1;
     for (int m = 0; m < c->material_count; ++m) {
-        one.materials[0] = c->materials[m];
-        const double speed = solver_max_sound_speed(&one);
+        const double speed = case_material_sound_speed(&c->materials[m]);
         if (!(speed > 0)) {
             fprintf(stderr, "fuzz_case: material '%s' of a valid case has sound speed %g m/s\n",
                     c->materials[m].name, speed);
