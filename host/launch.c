@@ -266,7 +266,8 @@ void solver_gather_persistent(struct solver *s)
         /* one spare for every field (not one per element kind, swapped in):
          * the copy back costs a read and a write per sort, the spares
          * would cost 56 B per particle in 3-D */
-        CL_CHECK(clEnqueueCopyBuffer(s->dev->queue, s->gather_spare, s->field[f], 0, 0,
-                                     s->element_size[kind] * (size_t)s->n, 0, NULL, NULL));
+        SET_ARGS(s, s->k.copy[kind], MEM("in", s->gather_spare), MEM("out", s->field[f]),
+                 INT("n", s->n));
+        solver_launch(s, s->k.copy[kind], (size_t)s->n, 0);
     }
 }

@@ -38,6 +38,7 @@ struct loop {
     double next_checkpoint_wall; /* wall-clock s (wall_seconds) */
     long first_step;             /* where this process began: 0, or the checkpoint's */
     long raise_at_step;          /* SPH_RAISE_AT_STEP=N: SIGINT after step N (tests); else -1 */
+    int raise_count;             /* SPH_RAISE_COUNT: how many SIGINTs then (default 1) */
     double first_t;
     double probe, window_sum, window_error_sum;
     long window_steps;
@@ -505,8 +506,8 @@ static int time_loop(struct loop *L)
             if (L->health.stop)
                 return 3;
         }
-        if (L->step == L->raise_at_step) /* SPH_RAISE_AT_STEP: tests' Ctrl-C */
-            raise(SIGINT);
+        for (int k = 0; L->step == L->raise_at_step && k < L->raise_count; ++k)
+            raise(SIGINT); /* SPH_RAISE_AT_STEP: tests' Ctrl-C, pressed twice or more */
         if (interrupt_signal)
             return stop_interrupted(L);
         if (checkpoint_due(L))
@@ -840,6 +841,8 @@ int run_case(const struct run_options *opt)
         L.first_step = L.step, L.first_t = L.t;
         const char *raise_at = getenv("SPH_RAISE_AT_STEP");
         L.raise_at_step = raise_at ? atol(raise_at) : -1;
+        const char *raise_count = getenv("SPH_RAISE_COUNT");
+        L.raise_count = raise_count ? atoi(raise_count) : 1;
         catch_interrupts(1);
         code = run_and_report(&L, r);
         catch_interrupts(0);

@@ -116,7 +116,7 @@ struct ghosts {
 
 struct kernels {
     cl_kernel cell_keys, bitonic_step, fill_int, cell_ranges, bounds;
-    cl_kernel gather[ELEM_COUNT];
+    cl_kernel gather[ELEM_COUNT], copy[ELEM_COUNT];
     cl_kernel pass1, material, pass2, kick, drift, reduce, neighbour_count;
     cl_kernel tl_correction, tl_deformation, tl_first_piola, tl_momentum;
     cl_kernel health;

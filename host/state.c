@@ -143,8 +143,11 @@ cl_mem solver_create_buffer(struct solver *s, size_t bytes)
     cl_mem m = clCreateBuffer(s->dev->context, CL_MEM_READ_WRITE, bytes, NULL, &err);
     CL_CHECK_ERR("clCreateBuffer", err);
     /* zeroed: nothing a kernel reads is ever undefined, the ghost slots
-     * and the padding of a reduction included (oclgrind --uninitialized,
-     * which does not count clEnqueueFillBuffer as a write). One 16 MiB
+     * and the padding of a reduction included (oclgrind --uninitialized
+     * takes each host write for the whole extent of what it knows of a
+     * buffer, so clEnqueueFillBuffer, whose pattern is written piece by
+     * piece, leaves it knowing one pattern; a buffer beyond one block
+     * likewise ends known to it as its last block only). One 16 MiB
      * block of zeros, kept for the process, is written over it without
      * waiting: a buffer made during a re-sort (a grown grid) costs no
      * synchronisation. */
@@ -159,11 +162,17 @@ cl_mem solver_create_buffer(struct solver *s, size_t bytes)
     return m;
 }
 
-/* Converts doubles to the device real type and uploads them. */
-static void upload_reals(struct solver *s, cl_mem buffer, const double *values, size_t count)
+/* Converts doubles to the device real type and uploads them: `count`
+ * values, then zeros up to `slots` elements. The whole buffer goes in one
+ * write because oclgrind (21.10) resizes its record of a buffer's
+ * initialised bytes to each host write: a write of the real particles only
+ * would leave the ghost slots that kernels fill later looking
+ * uninitialised to it. */
+static void upload_reals(struct solver *s, cl_mem buffer, const double *values, size_t count,
+                         size_t slots)
 {
     const size_t r = s->element_size[ELEM_REAL];
-    unsigned char *tmp = CHECKED_CALLOC(count * r + 1, 1, "upload staging");
+    unsigned char *tmp = CHECKED_CALLOC(slots * r + 1, 1, "upload staging");
     if (!tmp)
         return;
     for (size_t k = 0; k < count; ++k) {
@@ -175,28 +184,36 @@ static void upload_reals(struct solver *s, cl_mem buffer, const double *values, 
         }
     }
     CL_CHECK(
-        clEnqueueWriteBuffer(s->dev->queue, buffer, CL_TRUE, 0, count * r, tmp, 0, NULL, NULL));
+        clEnqueueWriteBuffer(s->dev->queue, buffer, CL_TRUE, 0, slots * r, tmp, 0, NULL, NULL));
     free(tmp);
 }
 
-/* 3-component host vectors to the device vec layout (2 or 4 reals). */
+/* 3-component host vectors of n particles to the device vec layout (2 or
+ * 4 reals), zeros in the other slots. */
 static void upload_vectors(struct solver *s, cl_mem buffer, const double *xyz, int n)
 {
     const int width = s->dim == 2 ? 2 : 4;
-    double *wide = CHECKED_CALLOC((size_t)n * width, sizeof(double), "vector upload");
+    const size_t slots = (size_t)s->capacity * width;
+    double *wide = CHECKED_CALLOC(slots + 1, sizeof(double), "vector upload");
     if (!wide)
         return;
     for (int p = 0; p < n; ++p)
         for (int a = 0; a < s->dim; ++a)
             wide[(size_t)p * width + a] = xyz[3 * p + a];
-    upload_reals(s, buffer, wide, (size_t)n * width);
+    upload_reals(s, buffer, wide, (size_t)n * width, slots);
     free(wide);
 }
 
+/* n ints, zeros in the other slots (one write: see upload_reals). */
 static void upload_ints(struct solver *s, cl_mem buffer, const int *values, int n)
 {
-    CL_CHECK(clEnqueueWriteBuffer(s->dev->queue, buffer, CL_TRUE, 0, (size_t)n * sizeof(cl_int),
-                                  values, 0, NULL, NULL));
+    int *wide = CHECKED_CALLOC((size_t)s->capacity + 1, sizeof(int), "int upload");
+    if (!wide)
+        return;
+    memcpy(wide, values, (size_t)n * sizeof(int));
+    CL_CHECK(clEnqueueWriteBuffer(s->dev->queue, buffer, CL_TRUE, 0,
+                                  (size_t)s->capacity * sizeof(cl_int), wide, 0, NULL, NULL));
+    free(wide);
 }
 
 /* The material table in double, from the case. */
@@ -364,8 +381,8 @@ int solver_create_buffers(struct solver *s, const struct sph_case *c, const stru
     upload_vectors(s, s->field[FIELD_POS0], scene->position, s->n_real);
     upload_vectors(s, s->field[FIELD_VEL], scene->velocity, s->n_real);
     upload_vectors(s, s->field[FIELD_VEL_HALF], scene->velocity, s->n_real);
-    upload_reals(s, s->field[FIELD_RHO], scene->density, (size_t)s->n_real);
-    upload_reals(s, s->field[FIELD_MASS], scene->mass, (size_t)s->n_real);
+    upload_reals(s, s->field[FIELD_RHO], scene->density, (size_t)s->n_real, (size_t)s->capacity);
+    upload_reals(s, s->field[FIELD_MASS], scene->mass, (size_t)s->n_real, (size_t)s->capacity);
     upload_ints(s, s->field[FIELD_FLAGS], scene->flags, s->n_real);
     upload_ints(s, s->field[FIELD_MATERIAL], scene->material, s->n_real);
     int *ids = CHECKED_CALLOC((size_t)s->n_real, sizeof(int), "particle ids");
@@ -376,7 +393,8 @@ int solver_create_buffers(struct solver *s, const struct sph_case *c, const stru
     }
     if (ids && temperature) {
         upload_ints(s, s->field[FIELD_ID], ids, s->n_real);
-        upload_reals(s, s->field[FIELD_TEMPERATURE], temperature, (size_t)s->n_real);
+        upload_reals(s, s->field[FIELD_TEMPERATURE], temperature, (size_t)s->n_real,
+                     (size_t)s->capacity);
     }
     free(ids);
     free(temperature);

@@ -25,6 +25,7 @@ static void step_kernels(struct solver *s, int make)
         {&k->cell_ranges, "grid_cell_ranges", 0},
         {&k->bounds, "grid_bounds", 0},
         {k->gather, "grid_gather", 1},
+        {k->copy, "grid_copy", 1},
         {&k->pass1, "pass1_velocity_gradient", 0},
         {&k->material, s->total_lagrangian ? "material_update" : NULL, 0},
         {&k->pass2, "pass2_momentum_energy", 0},

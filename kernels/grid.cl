@@ -91,7 +91,7 @@ __kernel void grid_cell_ranges(__global const ulong *restrict sort_keys,
 }
 
 /* Gathers one field into sorted order: out[i] = in[slot of sorted key i].
- * After the gather the host copies `out` back into the field (one spare
+ * After the gather grid_copy puts `out` back into the field (one spare
  * serves every field: host/launch.c); from then on only the high
  * half of the keys (the cell) is read. */
 #define GRID_GATHER(NAME, TYPE)                                                                    \
@@ -107,6 +107,23 @@ GRID_GATHER(grid_gather_int, int)
 GRID_GATHER(grid_gather_vec, vec)
 GRID_GATHER(grid_gather_symt, symt)
 GRID_GATHER(grid_gather_fullt, fullt)
+
+/* Copies the gathered field back: out[i] = in[i]. A kernel, not
+ * clEnqueueCopyBuffer, so that a checker's record of which elements were
+ * written follows the copy element by element (oclgrind takes a buffer copy
+ * for a host write of its extent and forgets the rest of the buffer). */
+#define GRID_COPY(NAME, TYPE)                                                                      \
+    __kernel void NAME(__global const TYPE *restrict in, __global TYPE *restrict out, const int n) \
+    {                                                                                              \
+        const int i = get_global_id(0);                                                            \
+        if (i < n)                                                                                 \
+            out[i] = in[i];                                                                        \
+    }
+GRID_COPY(grid_copy_real, real)
+GRID_COPY(grid_copy_int, int)
+GRID_COPY(grid_copy_vec, vec)
+GRID_COPY(grid_copy_symt, symt)
+GRID_COPY(grid_copy_fullt, fullt)
 
 /* Test hook: for each particle, the original ids of its neighbours within
  * `radius` (excluding itself), through FOR_EACH_NEIGHBOUR (the cells the

@@ -156,6 +156,19 @@ def main():
         fail("a refused resume changed history.csv")
     print("refusals: no checkpoint, edited case: exit 1 with the reason")
 
+    # Ctrl-C pressed twice: the second signal ends the process at once (the
+    # default action of SIGINT), and what was written before stays readable
+    twice = os.path.join(work, "twice")
+    env = dict(os.environ, SPH_RAISE_AT_STEP=str(max(1, summary["steps"] // 2)),
+               SPH_RAISE_COUNT="2")
+    p = subprocess.run([sph, "run", case, "--out", twice, "--quiet"] + sets, env=env,
+                       capture_output=True, text=True, timeout=600)
+    if p.returncode != -signal.SIGINT:
+        fail(f"two SIGINTs: exit {p.returncode}, expected death by SIGINT\n{p.stderr[-2000:]}")
+    if rows(os.path.join(twice, "history.csv")) < 2:
+        fail("two SIGINTs: history.csv lost")
+    print("a second SIGINT ends the run at once; history.csv kept")
+
 
 if __name__ == "__main__":
     main()
