@@ -143,11 +143,11 @@ cl_mem solver_create_buffer(struct solver *s, size_t bytes)
     cl_mem m = clCreateBuffer(s->dev->context, CL_MEM_READ_WRITE, bytes, NULL, &err);
     CL_CHECK_ERR("clCreateBuffer", err);
     /* zeroed: nothing a kernel reads is ever undefined, the ghost slots
-     * and the padding of a reduction included (oclgrind --uninitialized
-     * takes each host write for the whole extent of what it knows of a
-     * buffer, so clEnqueueFillBuffer, whose pattern is written piece by
-     * piece, leaves it knowing one pattern; a buffer beyond one block
-     * likewise ends known to it as its last block only). One 16 MiB
+     * and the padding of a reduction included. (oclgrind --uninitialized
+     * keeps one record per buffer of its initialised bytes, and each host
+     * write or buffer copy replaces it with one of its own extent: after a
+     * clEnqueueFillBuffer it knows one pattern, after the writes below a
+     * buffer beyond one block is known only as its last block.) One 16 MiB
      * block of zeros, kept for the process, is written over it without
      * waiting: a buffer made during a re-sort (a grown grid) costs no
      * synchronisation. */
