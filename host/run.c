@@ -600,7 +600,6 @@ static int start(struct loop *L, char *error, size_t size)
 /* `sph resume`: the checkpoint must belong to the case reloaded from the
  * folder's case.resolved.yaml (an edit that changes the case is refused). */
 static int same_case(const struct sph_case *c, struct checkpoint *k, char *error, size_t size)
-
 {
     size_t length = 0;
     char *text = case_resolved_text(c, &length);

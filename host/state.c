@@ -163,15 +163,15 @@ cl_mem solver_create_buffer(struct solver *s, size_t bytes)
 }
 
 /* Converts doubles to the device real type and uploads them: `count`
- * values, then zeros up to `slots` elements. The whole buffer goes in one
- * write because oclgrind (21.10) resizes its record of a buffer's
- * initialised bytes to each host write: a write of the real particles only
- * would leave the ghost slots that kernels fill later looking
- * uninitialised to it. */
+ * values, then zeros up to the buffer's capacity x `width` reals. The whole
+ * buffer goes in one write because oclgrind (21.10) resizes its record of a
+ * buffer's initialised bytes to each host write: a write of the real
+ * particles only would leave the ghost slots that kernels fill later
+ * looking uninitialised to it. */
 static void upload_reals(struct solver *s, cl_mem buffer, const double *values, size_t count,
-                         size_t slots)
+                         int width)
 {
-    const size_t r = s->element_size[ELEM_REAL];
+    const size_t r = s->element_size[ELEM_REAL], slots = (size_t)s->capacity * width;
     unsigned char *tmp = CHECKED_CALLOC(slots * r + 1, 1, "upload staging");
     if (!tmp)
         return;
@@ -193,14 +193,13 @@ static void upload_reals(struct solver *s, cl_mem buffer, const double *values, 
 static void upload_vectors(struct solver *s, cl_mem buffer, const double *xyz, int n)
 {
     const int width = s->dim == 2 ? 2 : 4;
-    const size_t slots = (size_t)s->capacity * width;
-    double *wide = CHECKED_CALLOC(slots + 1, sizeof(double), "vector upload");
+    double *wide = CHECKED_CALLOC((size_t)n * width + 1, sizeof(double), "vector upload");
     if (!wide)
         return;
     for (int p = 0; p < n; ++p)
         for (int a = 0; a < s->dim; ++a)
             wide[(size_t)p * width + a] = xyz[3 * p + a];
-    upload_reals(s, buffer, wide, (size_t)n * width, slots);
+    upload_reals(s, buffer, wide, (size_t)n * width, width);
     free(wide);
 }
 
@@ -381,8 +380,8 @@ int solver_create_buffers(struct solver *s, const struct sph_case *c, const stru
     upload_vectors(s, s->field[FIELD_POS0], scene->position, s->n_real);
     upload_vectors(s, s->field[FIELD_VEL], scene->velocity, s->n_real);
     upload_vectors(s, s->field[FIELD_VEL_HALF], scene->velocity, s->n_real);
-    upload_reals(s, s->field[FIELD_RHO], scene->density, (size_t)s->n_real, (size_t)s->capacity);
-    upload_reals(s, s->field[FIELD_MASS], scene->mass, (size_t)s->n_real, (size_t)s->capacity);
+    upload_reals(s, s->field[FIELD_RHO], scene->density, (size_t)s->n_real, 1);
+    upload_reals(s, s->field[FIELD_MASS], scene->mass, (size_t)s->n_real, 1);
     upload_ints(s, s->field[FIELD_FLAGS], scene->flags, s->n_real);
     upload_ints(s, s->field[FIELD_MATERIAL], scene->material, s->n_real);
     int *ids = CHECKED_CALLOC((size_t)s->n_real, sizeof(int), "particle ids");
@@ -393,8 +392,7 @@ int solver_create_buffers(struct solver *s, const struct sph_case *c, const stru
     }
     if (ids && temperature) {
         upload_ints(s, s->field[FIELD_ID], ids, s->n_real);
-        upload_reals(s, s->field[FIELD_TEMPERATURE], temperature, (size_t)s->n_real,
-                     (size_t)s->capacity);
+        upload_reals(s, s->field[FIELD_TEMPERATURE], temperature, (size_t)s->n_real, 1);
     }
     free(ids);
     free(temperature);
