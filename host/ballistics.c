@@ -147,6 +147,7 @@ int solver_projectile_create(struct solver *s, const struct sph_case *c,
     if (!cp->enabled)
         return 0;
     p->enabled = 1;
+    p->prescribed = cp->prescribed;
     p->radius = 0.5 * cp->diameter;
     p->mass = cp->density * M_PI * pow(cp->diameter, 3) / 6.0;
     const double speed = sqrt(dot3(cp->velocity, cp->velocity));
@@ -195,8 +196,8 @@ void solver_projectile_advance(struct solver *s, double dt, double dt_prev)
     SET_ARGS(s, s->k.projectile_advance, MEM("state", p->state),
              MEM("partials", p->contact_partials), INT("groups", s->reduce_groups),
              real4_value(s, &a_mask, "mask", p->mask), real_value(s, &a_scale, "scale", p->scale),
-             real_value(s, &a_mass, "sphere_mass", p->mass), real_value(s, &a_dt, "dt", dt),
-             real_value(s, &a_prev, "dt_prev", dt_prev));
+             real_value(s, &a_mass, "sphere_mass", p->mass), INT("prescribed", p->prescribed),
+             real_value(s, &a_dt, "dt", dt), real_value(s, &a_prev, "dt_prev", dt_prev));
     solver_launch(s, s->k.projectile_advance, 1, 1);
 }
 
@@ -245,6 +246,9 @@ void solver_projectile_read(struct solver *s, struct projectile_reading *out)
     }
     out->contact_energy = state[SPH_PROJ_CONTACT_ENERGY];
     out->dissipated = state[SPH_PROJ_DISSIPATED];
+    out->driver_work = state[SPH_PROJ_DRIVER_WORK];
+    for (int a = 0; a < 3; ++a)
+        out->driver_impulse_along_axis += state[SPH_PROJ_DRIVER_IMPULSE + a] * p->axis[a];
     out->contacts = (int)state[SPH_PROJ_CONTACTS];
     out->penetration = along + p->radius - p->surface;
     out->speed_along_axis = speed;

@@ -100,12 +100,16 @@ void ballistics_track_row(struct ballistics_track *b, struct solver *s, const st
         target += red->momentum[a] * p->axis[a];
     }
     row.projectile_kinetic = 0.5 * p->mass * speed2;
-    row.system_momentum = p->momentum_scale * target + p->mass * row.p.speed_along_axis;
+    /* under prescribed motion the force holding the sphere is external: its
+     * impulse and work leave the balances closed */
+    row.system_momentum = p->momentum_scale * target + p->mass * row.p.speed_along_axis -
+                          row.p.driver_impulse_along_axis;
     /* the particle sums are the modelled part's (a quarter with two symmetry
      * planes), the sphere's figures the whole sphere's: the ledger takes
      * the sphere's share of the model */
     b->energy =
         (row.projectile_kinetic + row.p.contact_energy + row.p.dissipated) / p->momentum_scale;
+    b->driver_work = row.p.driver_work / p->momentum_scale;
     if (at.step == 0)
         b->momentum0 = row.system_momentum;
     b->momentum_error =

@@ -116,6 +116,7 @@ static const char *const as_weight_names[] = {"relative", "lattice", NULL};
 static const char *const neighbour_loop_names[] = {"lanes", "plain", "auto", NULL};
 static const char *const formulation_names[] = {"updated_lagrangian", "total_lagrangian", NULL};
 static const char *const av_scheme_names[] = {"monaghan", "limited", "switch", NULL};
+static const char *const motion_names[] = {"free", "prescribed", NULL};
 static const char *const ref_nouns[] = {"material", "body", "group"};
 
 /* ---- errors ------------------------------------------------------------ */
@@ -1309,6 +1310,7 @@ static const struct field projectile_fields[] = {
            R_POSITIVE, 0, 0, 0, "m"),
     INT("cavity_probe_count", struct case_projectile, cavity_probe_count, 0, 1,
         SPH_MAX_CAVITY_PROBES, SPH_MAX_CAVITY_PROBES, NULL),
+    ENUM("motion", struct case_projectile, prescribed, 0, 0, motion_names, NULL),
 };
 
 static const struct schema material_schema =

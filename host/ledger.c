@@ -7,8 +7,8 @@
 
 double ledger_total(const struct energy_ledger *e, const struct reduction *red, double projectile)
 {
-    return red->kinetic + red->internal - e->external_work - e->wall_work + e->hourglass_work +
-           projectile;
+    return red->kinetic + red->internal - e->external_work - e->wall_work - e->driver_work +
+           e->hourglass_work + projectile;
 }
 
 void ledger_step(struct energy_ledger *e, const struct reduction *red, double dt, double projectile)
@@ -20,8 +20,8 @@ void ledger_step(struct energy_ledger *e, const struct reduction *red, double dt
     for (int a = 0; a < 3; ++a)
         e->wall_impulse[a] += red->wall_force[a] * dt;
     e->impulse_since_row += dt;
-    e->scale = fmax(e->scale,
-                    fmax(fabs(e->external_work), red->kinetic + fabs(red->internal) + projectile));
+    e->scale = fmax(e->scale, fmax(fabs(e->external_work) + fabs(e->driver_work),
+                                   red->kinetic + fabs(red->internal) + projectile));
 }
 
 void ledger_watch(struct energy_ledger *e, const struct reduction *red, double projectile)

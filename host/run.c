@@ -118,6 +118,7 @@ static int write_history(struct loop *L)
 {
     if (L->s->projectile.enabled) {
         ballistics_track_row(&L->ballistics, L->s, L->c, &L->red, clock_of(L), L->out);
+        L->energy.driver_work = L->ballistics.driver_work;
         ledger_watch(&L->energy, &L->red, projectile_energy(L));
     }
     struct history_row row = {.time = L->t,

@@ -11,13 +11,14 @@
 #include "solver.h"
 #include "sph_case.h"
 
-/* ---- energy ledger: E = K + U - W_loads - W_walls + W_hourglass (+ the
- * sphere's share) and the work the artificial viscosity turned into heat */
+/* ---- energy ledger: E = K + U - W_loads - W_walls - W_driver + W_hourglass
+ * (+ the sphere's share) and the work the artificial viscosity turned into heat */
 struct energy_ledger {
     double external_work;  /* J: work of the loads, F(t^n) . v^(n+1/2) dt summed */
     double wall_work;      /* J: work the walls did on the particles */
     double viscous_work;   /* J: heat made by the artificial viscosity (in U) */
     double hourglass_work; /* J: work the hourglass forces took out of the motion */
+    double driver_work;    /* J: work of the force holding a prescribed projectile's speed */
     double wall_impulse[3], impulse_since_row; /* N s and s since the last history row */
     double start;                              /* the total at t = 0, J */
     double scale;                              /* the largest energy so far, J */
@@ -85,8 +86,9 @@ void impact_measure(struct impact_metrics *m, const struct sph_case *c, const st
 
 /* ---- what the run tracks of a projectile (ballistics.csv, summary) */
 struct ballistics_track {
-    double energy;    /* the sphere's share of the model's energy at the last row, J */
-    double momentum0; /* sphere plus target along the axis at t = 0, kg m/s */
+    double energy;      /* the sphere's share of the model's energy at the last row, J */
+    double driver_work; /* the share of the work done holding a prescribed sphere, J */
+    double momentum0;   /* sphere plus target along the axis at t = 0, kg m/s */
     double max_penetration, time_of_max, final_penetration, final_velocity;
     double max_d1, max_d2, momentum_error;
     double left_fine_time;             /* s: nose first in a graded body's coarse shells; < 0 */

@@ -127,6 +127,7 @@ struct kernels {
 /* The rigid projectile (host/ballistics.c, kernels/projectile.cl). */
 struct projectile {
     int enabled;
+    int prescribed;          /* held at its initial velocity (projectile.motion) */
     cl_mem state;            /* SPH_PROJ_SLOTS reals */
     cl_mem contact_partials; /* SPH_CONTACT_SLOTS per reduce group */
     double radius, mass;     /* m, kg */
@@ -147,6 +148,8 @@ struct projectile_reading {
     double position[3], velocity[3], force[3]; /* m, m/s, N */
     double contact_energy;                     /* J */
     double dissipated;                         /* work of the contact dampers so far, J */
+    double driver_work;                        /* prescribed motion: work done holding it, J */
+    double driver_impulse_along_axis;          /* prescribed motion: that force's impulse, N s */
     int contacts;
     double penetration;        /* nose depth below the surface along the axis, m */
     double speed_along_axis;   /* m/s, positive into the target */

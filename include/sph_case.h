@@ -131,6 +131,7 @@ struct case_projectile {
     double velocity[3];          /* initial velocity, m/s, required (not zero) */
     double cavity_probe_spacing; /* m, default the diameter */
     int cavity_probe_count;      /* probe depths k spacing, k = 1..count; default 8 */
+    int prescribed;              /* motion: 0 free (default), 1 held at `velocity` */
 };
 
 /* A named group of particles: those of `body` (or any body if body < 0)

@@ -80,12 +80,14 @@ enum sph_flag {
  * device, one real per slot. Position and velocity are the leap-frog's
  * (x^n, v^(n-1/2)); force and contact energy are those of the last step. */
 enum sph_projectile_slot {
-    SPH_PROJ_X = 0,              /* centre, m (x, y, z) */
-    SPH_PROJ_V = 3,              /* velocity, m/s */
-    SPH_PROJ_F = 6,              /* force of the target on the sphere, N (whole model) */
-    SPH_PROJ_CONTACT_ENERGY = 9, /* energy stored in the contact springs, J */
-    SPH_PROJ_CONTACTS = 10,      /* particles in contact */
-    SPH_PROJ_DISSIPATED = 11,    /* work of the contact dampers since t = 0, J */
+    SPH_PROJ_X = 0,               /* centre, m (x, y, z) */
+    SPH_PROJ_V = 3,               /* velocity, m/s */
+    SPH_PROJ_F = 6,               /* force of the target on the sphere, N (whole model) */
+    SPH_PROJ_CONTACT_ENERGY = 9,  /* energy stored in the contact springs, J */
+    SPH_PROJ_CONTACTS = 10,       /* particles in contact */
+    SPH_PROJ_DISSIPATED = 11,     /* work of the contact dampers since t = 0, J */
+    SPH_PROJ_DRIVER_WORK = 12,    /* prescribed motion: work of the force holding it, J */
+    SPH_PROJ_DRIVER_IMPULSE = 13, /* prescribed motion: impulse of that force, N s (x, y, z) */
     SPH_PROJ_SLOTS = 16
 };
 /* Per-work-group partials of the contact kernel. */

@@ -100,12 +100,14 @@ projectile_contact(__global const vec *restrict pos, __global const vec *restric
  * mass per radian, 2 per symmetry plane, the thickness in plane strain),
  * with the components normal to symmetry planes zeroed (`mask`: they cancel
  * against the mirror images). Then the leap-frog of the particles:
- * v^(n+1/2) = v^(n-1/2) + (dt_prev + dt)/2 F/M, x^(n+1) = x^n + dt v^(n+1/2).
- * reads partials; updates state. */
+ * v^(n+1/2) = v^(n-1/2) + (dt_prev + dt)/2 F/M, x^(n+1) = x^n + dt v^(n+1/2);
+ * with `prescribed` (projectile.motion) the velocity stays the initial one
+ * (a sphere pushed at constant speed: the force is the target's steady
+ * resistance). reads partials; updates state. */
 __kernel void projectile_advance(__global real *restrict state,
                                  __global const real *restrict partials, const int groups,
                                  const real4 mask, const real scale, const real sphere_mass,
-                                 const real dt, const real dt_prev)
+                                 const int prescribed, const real dt, const real dt_prev)
 {
     if (get_global_id(0) != 0)
         return;
@@ -118,10 +120,17 @@ __kernel void projectile_advance(__global real *restrict state,
     const real m[3] = {mask.x, mask.y, mask.z};
     for (int a = 0; a < 3; ++a) {
         const real force = -scale * m[a] * sum[SPH_CONTACT_FX + a];
-        const real v = state[SPH_PROJ_V + a] + (real)0.5 * (dt_prev + dt) * force / sphere_mass;
         state[SPH_PROJ_F + a] = force;
-        state[SPH_PROJ_V + a] = v;
-        state[SPH_PROJ_X + a] += dt * v;
+        if (prescribed) {
+            /* held at its velocity by a force -F, whose work and impulse
+             * the energy and momentum balances count */
+            const real kick = (real)0.5 * (dt_prev + dt); /* the particles' kick */
+            state[SPH_PROJ_DRIVER_WORK] -= kick * force * state[SPH_PROJ_V + a];
+            state[SPH_PROJ_DRIVER_IMPULSE + a] -= kick * force;
+        } else {
+            state[SPH_PROJ_V + a] += (real)0.5 * (dt_prev + dt) * force / sphere_mass;
+        }
+        state[SPH_PROJ_X + a] += dt * state[SPH_PROJ_V + a];
     }
     state[SPH_PROJ_CONTACT_ENERGY] = scale * sum[SPH_CONTACT_ENERGY];
     state[SPH_PROJ_DISSIPATED] += dt * scale * sum[SPH_CONTACT_DISSIPATION];

@@ -8,6 +8,11 @@ SEBS gel), each one command, tables and plots under results/penetration/.
   tools/penetration_study.py convergence --case gelatin [--n 6 8 10 12 16]
   tools/penetration_study.py domain     --case gelatin [--n N]   1x and 2x target
   tools/penetration_study.py grading    --case gelatin [--n N]   graded vs uniform lattice
+  tools/penetration_study.py resistance --case gelatin [--v0 V] [--n 8 16 24 32]
+                                        the sphere pushed at constant speed V
+                                        (projectile.motion: prescribed) through
+                                        5 d: its steady resistance F / (pi R^2)
+                                        at each spacing, Richardson limit, order
   common: [--results DIR] [--set key=value ...]
 
 Every run is cases/gelatin_silica.yaml or cases/sebs_steel.yaml with the
@@ -252,23 +257,103 @@ def cmd_grading(args):
                     f"{case}: graded against uniform lattice, d/dx = {args.n[0]}", runs, case)
 
 
+def richardson(n, values):
+    """(limit, order) from the last three values of a sequence refined by a
+    constant ratio of n, or None when the steps do not shrink monotonically."""
+    if len(values) < 3:
+        return None
+    (n1, n2, n3), (f1, f2, f3) = n[-3:], values[-3:]
+    if n2 / n1 != n3 / n2 or (f1 - f2) * (f2 - f3) <= 0 or abs(f2 - f3) >= abs(f1 - f2):
+        return None
+    import math
+    ratio = n2 / n1
+    order = math.log((f1 - f2) / (f2 - f3)) / math.log(ratio)
+    return f3 + (f3 - f2) / (ratio ** order - 1), order
+
+
+def steady_resistance(rows, d, t0, t1):
+    """Mean force over (pi d^2 / 4) in the window [t0, t1], Pa."""
+    import math
+    forces = [float(r["decelerating_force_N"]) for r in rows if t0 <= float(r["time_s"]) <= t1]
+    return sum(forces) / len(forces) / (math.pi * d * d / 4)
+
+
+def cmd_resistance(args):
+    """The sphere held at v0 (projectile.motion: prescribed) through 5 d of
+    target: the inertial drag of the impact phase measured without the
+    deceleration, so its convergence with spacing is seen directly."""
+    case = args.case
+    d = args.d[0] if args.d else CASES[case][5]
+    v0 = args.v0[0] if args.v0 else 600.0
+    rho = CASES[case][1].rho_t
+    end = 5 * d / v0
+    table, values, walls = [], [], []
+    for n in args.n:
+        label = f"{case}_resistance_v{v0:g}_n{n}"
+        out = os.path.join(args.results, "penetration", "runs", label)
+        sets = scene_sets(case, d, v0, n) + [
+            "projectile.motion=prescribed", f"numerics.end_time={end!r}",
+            f"output.snapshot_interval={end / 5!r}"] + list(args.set)
+        s = studylib.run(os.path.join(ROOT, "cases", CASES[case][0]), out, sets,
+                         "penetration_study")
+        with open(os.path.join(out, "ballistics.csv")) as f:
+            rows = list(csv.DictReader(f))
+        r = steady_resistance(rows, d, 0.5 * end, end)
+        values.append(r)
+        walls.append(s["wall_time_s"])
+        table.append([n, f"{1e6 * d / n:.3f}", f"{r / 1e6:.2f}",
+                      f"{2 * r / (rho * v0 * v0):.3f}", f"{s['energy_drift']:.3f}",
+                      f"{s['momentum_error']:.1e}", f"{s['artificial_viscosity_work_fraction']:.2f}",
+                      s["particles"], s["steps"], f"{s['wall_time_s']:.0f}", s["status"]])
+    fit = richardson(args.n, values)
+    note = (f"Richardson limit {fit[0] / 1e6:.2f} MPa, observed order {fit[1]:.2f}" if fit else
+            "no Richardson limit: the last three steps do not shrink monotonically")
+    table.append(["limit", "", f"{fit[0] / 1e6:.2f}" if fit else "", "", "", "", "", "", "", "",
+                  note])
+    write_table(folder(args), f"{case}_resistance_v{v0:g}",
+                ["d/dx", "dx (um)", "F/(pi R^2) (MPa)", "2F/(rho v^2 pi R^2)", "energy drift",
+                 "momentum error", "AV work / KE0", "particles", "steps", "wall (s)", "status"],
+                table)
+    print(note)
+    fig, (left, right) = plt.subplots(1, 2, figsize=(10, 4))
+    left.plot([1 / n for n in args.n], [v / 1e6 for v in values], "o-", label="SPH")
+    if fit:
+        left.axhline(fit[0] / 1e6, ls="--", color="k",
+                     label=f"Richardson limit (order {fit[1]:.2f})")
+        right.loglog(walls, [abs(v / fit[0] - 1) for v in values], "o-")
+        right.set_xlabel("wall time (s)")
+        right.set_ylabel("|F / F_limit - 1|")
+        right.set_title("error against cost")
+    left.set_xlim(left=0)
+    left.set_xlabel("dx / d")
+    left.set_ylabel("steady resistance F / (pi R^2) (MPa)")
+    left.set_title(f"{case}: sphere held at {v0:g} m/s, mean over {2.5:g}-5 d of travel")
+    left.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(os.path.join(folder(args), f"{case}_resistance_v{v0:g}.png"), dpi=120)
+    plt.close(fig)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("command",
-                        choices=["run", "sweep", "sebs", "convergence", "domain", "grading"])
+                        choices=["run", "sweep", "sebs", "convergence", "domain", "grading",
+                                 "resistance"])
     parser.add_argument("--case", choices=sorted(CASES), default="gelatin")
     parser.add_argument("--d", type=float, nargs="+", help="sphere diameters, m")
     parser.add_argument("--v0", type=float, nargs="+", help="impact velocities, m/s")
     parser.add_argument("--n", type=int, nargs="+", help="d / dx (default 10; convergence: "
-                        "6 8 10 12 16)")
+                        "6 8 10 12 16; resistance: 8 16 32)")
     parser.add_argument("--set", action="append", default=[], help="extra case override")
     parser.add_argument("--results", default=os.path.join(ROOT, "results"))
     args = parser.parse_args()
     if not args.n:
-        args.n = [6, 8, 10, 12, 16] if args.command == "convergence" else [10]
+        args.n = {"convergence": [6, 8, 10, 12, 16],
+                  "resistance": [8, 16, 32]}.get(args.command, [10])
     {"run": cmd_run, "sweep": cmd_sweep, "sebs": cmd_sebs, "convergence": cmd_convergence,
-     "domain": cmd_domain, "grading": cmd_grading}[args.command](args)
+     "domain": cmd_domain, "grading": cmd_grading,
+     "resistance": cmd_resistance}[args.command](args)
 
 
 if __name__ == "__main__":
