@@ -2,22 +2,28 @@
  * The rigid projectile: a sphere with one position, velocity and mass,
  * pushed by the target particles it touches (issue: micro-particle
  * penetration). The target sees it as a moving boundary through a stiff
- * penalty on the analytic surface: a particle whose centre comes inside the
- * sphere (closer than R to its centre) is pushed out along the radius with
- * f = m k^2 (R - d) / dx_i^2, and the sphere takes the opposite force, so
+ * penalty on the analytic surface: a particle whose centre comes closer
+ * than R - dx_i/2 to the sphere's centre is pushed out along the radius
+ * with f = m k^2 (R - dx_i/2 - d) / dx_i^2, and the sphere takes the opposite force, so
  * the pair conserves momentum exactly and the spring stores (and gives
- * back) its energy. The layer in contact is held with its centres on the
- * sphere, not half a spacing outside it as at the plane walls
- * (integrate.cl): a layer held at R + dx/2 lies on a sphere (1 + dx/2R)^2
- * larger in area and pushes the gel as a sphere that much larger would,
- * an error proportional to dx. Measured (docs/shock_capturing.md, "Contact
- * surface"): without artificial viscosity the sphere's speed 10 ns after
- * impact in gelatin at d/dx 8 / 16 / 32 is 840 / 883 / 901 m/s with the
- * layer at R + dx/2 and 918 / 917 / 920 m/s with it at R. k is the target's
+ * back) its energy. The layer in contact is held with its centres half a
+ * spacing inside the sphere (d >= R - dx_i/2), not half a spacing outside
+ * it as at the plane walls (integrate.cl): the layer rides on the sphere,
+ * and the gel flows around the layer's outer face, half a spacing beyond
+ * its centres. Held at R + a, the body the gel flows around is a sphere of
+ * radius R + a + dx/2, (1 + (a + dx/2)/R)^2 larger in area: an error
+ * proportional to dx, the same at every plane wall only in position, not
+ * in force. Measured with the sphere held at 600 m/s in gelatin
+ * (docs/shock_capturing.md, "Steady resistance"; switch viscosity): with
+ * the centres on R the resistance is 92.4 / 77.0 / 71.0 / 68.6 MPa at d/dx
+ * 8 / 16 / 32 / 64 (Richardson limit 66.9 MPa); with them at R - dx/2,
+ * 71.3 / 66.4 / 66.9 MPa at d/dx 8 / 16 / 32. -DSPH_CONTACT_INSET=0 (in
+ * SPH_BUILD_OPTIONS) gives the contact on R for such comparisons. k is the target's
  * longitudinal wave speed plus the impact speed: the spring's frequency
  * k / dx_i stays below the step's stability limit (dt = cfl h / (c + |v|))
  * while the overlap at impact stays under v dx / k < dx / 2 (a centre never
- * comes near the sphere's, where the normal would be undefined). A damper in
+ * comes nearer the sphere's than R - dx, so the normal stays defined for
+ * d / dx >= 4). A damper in
  * parallel, critical for the spring (2 k / dx_i per unit mass) and acting
  * only while the particle closes on the sphere, takes the energy of each
  * particle-sphere impact: without it the first layer of the surface,
@@ -58,7 +64,10 @@ projectile_contact(__global const vec *restrict pos, __global const vec *restric
         const real dx_i = dx * spacing_scale(flag);
         const vec d = pos[i] - centre;
         const real distance = length(d);
-        const real depth = radius - distance;
+#ifndef SPH_CONTACT_INSET /* spacings inside the sphere the layer is held at */
+#define SPH_CONTACT_INSET 0.5
+#endif
+        const real depth = radius - (real)SPH_CONTACT_INSET * dx_i - distance;
         if (depth <= 0 || distance <= 0)
             continue;
         const vec normal = d / distance;
