@@ -13,6 +13,9 @@ SEBS gel), each one command, tables and plots under results/penetration/.
                                         (projectile.motion: prescribed) through
                                         5 d: its steady resistance F / (pi R^2)
                                         at each spacing, Richardson limit, order
+  tools/penetration_study.py resistance-chart --tables A.csv B.csv ... --labels ...
+                                        --limit MPa [--out PNG]: several resistance
+                                        tables on one chart against one limit
   common: [--results DIR] [--set key=value ...]
 
 Every run is cases/gelatin_silica.yaml or cases/sebs_steel.yaml with the
@@ -334,12 +337,43 @@ def cmd_resistance(args):
     plt.close(fig)
 
 
+def cmd_resistance_chart(args):
+    """Resistance tables (from `resistance`) against one limit: resistance
+    against dx / d, and its error against wall time."""
+    if not args.tables or len(args.labels or []) != len(args.tables) or args.limit is None:
+        sys.exit("penetration_study: resistance-chart needs --tables, as many --labels "
+                 "and --limit (MPa)")
+    fig, (left, right) = plt.subplots(1, 2, figsize=(10, 4))
+    for path, label in zip(args.tables, args.labels):
+        with open(path, newline="") as f:
+            rows = [r for r in csv.DictReader(f) if r["d/dx"].isdigit()]
+        n = [int(r["d/dx"]) for r in rows]
+        value = [float(r["F/(pi R^2) (MPa)"]) for r in rows]
+        wall = [float(r["wall (s)"]) for r in rows]
+        left.plot([1 / k for k in n], value, "o-", label=label)
+        right.loglog(wall, [max(abs(v / args.limit - 1), 1e-4) for v in value], "o-",
+                     label=label)
+    left.axhline(args.limit, ls="--", color="k", label=f"limit {args.limit:g} MPa")
+    left.set_xlim(left=0)
+    left.set_xlabel("dx / d")
+    left.set_ylabel("steady resistance F / (pi R^2) (MPa)")
+    left.legend(fontsize=7)
+    right.set_xlabel("wall time (s)")
+    right.set_ylabel("|F / F_limit - 1|")
+    right.set_title("error against cost")
+    fig.tight_layout()
+    out = args.out or os.path.join(folder(args), "resistance_chart.png")
+    fig.savefig(out, dpi=120)
+    plt.close(fig)
+    print(out)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("command",
                         choices=["run", "sweep", "sebs", "convergence", "domain", "grading",
-                                 "resistance"])
+                                 "resistance", "resistance-chart"])
     parser.add_argument("--case", choices=sorted(CASES), default="gelatin")
     parser.add_argument("--d", type=float, nargs="+", help="sphere diameters, m")
     parser.add_argument("--v0", type=float, nargs="+", help="impact velocities, m/s")
@@ -347,13 +381,17 @@ def main():
                         "6 8 10 12 16; resistance: 8 16 32)")
     parser.add_argument("--set", action="append", default=[], help="extra case override")
     parser.add_argument("--results", default=os.path.join(ROOT, "results"))
+    parser.add_argument("--tables", nargs="+", help="resistance-chart: resistance CSV tables")
+    parser.add_argument("--labels", nargs="+", help="resistance-chart: one label per table")
+    parser.add_argument("--limit", type=float, help="resistance-chart: the limit, MPa")
+    parser.add_argument("--out", help="resistance-chart: the PNG (default under --results)")
     args = parser.parse_args()
     if not args.n:
         args.n = {"convergence": [6, 8, 10, 12, 16],
                   "resistance": [8, 16, 32]}.get(args.command, [10])
     {"run": cmd_run, "sweep": cmd_sweep, "sebs": cmd_sebs, "convergence": cmd_convergence,
      "domain": cmd_domain, "grading": cmd_grading,
-     "resistance": cmd_resistance}[args.command](args)
+     "resistance": cmd_resistance, "resistance-chart": cmd_resistance_chart}[args.command](args)
 
 
 if __name__ == "__main__":
