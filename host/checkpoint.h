@@ -13,7 +13,9 @@
 
 #include "solver.h"
 
-#define SPH_CHECKPOINT_FORMAT 1
+/* 2: the energy ledger and the ballistics record the work of the force
+ * holding a prescribed projectile (session 19) */
+#define SPH_CHECKPOINT_FORMAT 2
 
 struct checkpoint {
     hid_t file;
