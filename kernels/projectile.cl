@@ -12,8 +12,8 @@
  * and the gel flows around the layer's outer face, half a spacing beyond
  * its centres. Held at R + a, the body the gel flows around is a sphere of
  * radius R + a + dx/2, (1 + (a + dx/2)/R)^2 larger in area: an error
- * proportional to dx, the same at every plane wall only in position, not
- * in force. Measured with the sphere held at 600 m/s in gelatin
+ * proportional to dx (at a plane wall the same offset moves the face, not
+ * the force). Measured with the sphere held at 600 m/s in gelatin
  * (docs/shock_capturing.md, "Steady resistance"; switch viscosity): with
  * the centres on R the resistance is 92.4 / 77.0 / 71.0 / 68.6 MPa at d/dx
  * 8 / 16 / 32 / 64 (Richardson limit 66.9 MPa); with them at R - dx/2,
@@ -38,6 +38,11 @@
  * them and moves the sphere with the particles' leap-frog. At history rows
  * projectile_cavity measures the cavity around the track.
  */
+
+/* spacings inside the sphere the contact layer is held at (above) */
+#ifndef SPH_CONTACT_INSET
+#define SPH_CONTACT_INSET 0.5
+#endif
 
 /* reads pos, vel, vel_half, mass, flags, state; updates acceleration; writes
  * contact partials. */
@@ -64,9 +69,6 @@ projectile_contact(__global const vec *restrict pos, __global const vec *restric
         const real dx_i = dx * spacing_scale(flag);
         const vec d = pos[i] - centre;
         const real distance = length(d);
-#ifndef SPH_CONTACT_INSET /* spacings inside the sphere the layer is held at */
-#define SPH_CONTACT_INSET 0.5
-#endif
         const real depth = radius - (real)SPH_CONTACT_INSET * dx_i - distance;
         if (depth <= 0 || distance <= 0)
             continue;
@@ -127,17 +129,17 @@ __kernel void projectile_advance(__global real *restrict state,
         for (int k = 0; k < SPH_CONTACT_SLOTS; ++k)
             sum[k] += partials[g * SPH_CONTACT_SLOTS + k];
     const real m[3] = {mask.x, mask.y, mask.z};
+    const real kick = (real)0.5 * (dt_prev + dt); /* the particles' kick */
     for (int a = 0; a < 3; ++a) {
         const real force = -scale * m[a] * sum[SPH_CONTACT_FX + a];
         state[SPH_PROJ_F + a] = force;
         if (prescribed) {
             /* held at its velocity by a force -F, whose work and impulse
              * the energy and momentum balances count */
-            const real kick = (real)0.5 * (dt_prev + dt); /* the particles' kick */
             state[SPH_PROJ_DRIVER_WORK] -= kick * force * state[SPH_PROJ_V + a];
             state[SPH_PROJ_DRIVER_IMPULSE + a] -= kick * force;
         } else {
-            state[SPH_PROJ_V + a] += (real)0.5 * (dt_prev + dt) * force / sphere_mass;
+            state[SPH_PROJ_V + a] += kick * force / sphere_mass;
         }
         state[SPH_PROJ_X + a] += dt * state[SPH_PROJ_V + a];
     }

@@ -16,7 +16,6 @@ summary.json and history.csv.
 """
 import argparse
 import csv
-import math
 import os
 import sys
 
@@ -86,8 +85,9 @@ def static(args):
     for load, pts in series.items():
         pts.sort(reverse=True)
         for (h1, w1), (h2, w2), (h3, w3) in zip(pts, pts[1:], pts[2:]):
-            if w2 != w3 and (w1 - w2) / (w2 - w3) > 0:
-                orders.append((load, h3, math.log((w1 - w2) / (w2 - w3)) / math.log(h1 / h2)))
+            fit = studylib.richardson((h1, h2, h3), (w1, w2, w3))
+            if fit:
+                orders.append((load, h3, fit[1]))
     write_table(folder, "static" + args.tag, ["F (N)", "dx (mm)", "particles", "steps", "wall (s)", "status",
                                    "tip deflection (mm)", "Reissner (mm)", "error vs Reissner (%)",
                                    "error vs elastica (%)", "neighbour-loss fraction"], rows)

@@ -33,6 +33,7 @@ Cd = 0.8, R = 33.7 MPa.
 """
 import argparse
 import csv
+import math
 import os
 import sys
 
@@ -260,23 +261,17 @@ def cmd_grading(args):
                     f"{case}: graded against uniform lattice, d/dx = {args.n[0]}", runs, case)
 
 
-def richardson(n, values):
-    """(limit, order) from the last three values of a sequence refined by a
-    constant ratio of n, or None when the steps do not shrink monotonically."""
+def resistance_limit(n, values):
+    """(limit, order) from the last three spacings d / n, or None unless the
+    steps shrink (a positive order)."""
     if len(values) < 3:
         return None
-    (n1, n2, n3), (f1, f2, f3) = n[-3:], values[-3:]
-    if n2 / n1 != n3 / n2 or (f1 - f2) * (f2 - f3) <= 0 or abs(f2 - f3) >= abs(f1 - f2):
-        return None
-    import math
-    ratio = n2 / n1
-    order = math.log((f1 - f2) / (f2 - f3)) / math.log(ratio)
-    return f3 + (f3 - f2) / (ratio ** order - 1), order
+    fit = studylib.richardson([1 / k for k in n[-3:]], values[-3:])
+    return fit if fit and fit[1] > 0 else None
 
 
 def steady_resistance(rows, d, t0, t1):
     """Mean force over (pi d^2 / 4) in the window [t0, t1], Pa."""
-    import math
     forces = [float(r["decelerating_force_N"]) for r in rows if t0 <= float(r["time_s"]) <= t1]
     return sum(forces) / len(forces) / (math.pi * d * d / 4)
 
@@ -308,7 +303,7 @@ def cmd_resistance(args):
                       f"{2 * r / (rho * v0 * v0):.3f}", f"{s['energy_drift']:.3f}",
                       f"{s['momentum_error']:.1e}", f"{s['artificial_viscosity_work_fraction']:.2f}",
                       s["particles"], s["steps"], f"{s['wall_time_s']:.0f}", s["status"]])
-    fit = richardson(args.n, values)
+    fit = resistance_limit(args.n, values)
     note = (f"Richardson limit {fit[0] / 1e6:.2f} MPa, observed order {fit[1]:.2f}" if fit else
             "no Richardson limit: the last three steps do not shrink monotonically")
     table.append(["limit", "", f"{fit[0] / 1e6:.2f}" if fit else "", "", "", "", "", "", "", "",

@@ -1,7 +1,9 @@
-"""What the study tools share: running `sph` on a case and writing a table
-as CSV and Markdown (tools/beam_study.py, tools/taylor_study.py)."""
+"""What the study tools share: running `sph` on a case, writing a table
+as CSV and Markdown, and the Richardson estimate from three spacings
+(tools/beam_study.py, tools/taylor_study.py, tools/penetration_study.py)."""
 import csv
 import json
+import math
 import os
 import subprocess
 import sys
@@ -39,3 +41,15 @@ def write_table(folder, name, header, rows):
         for r in rows:
             f.write("| " + " | ".join(str(x) for x in r) + " |\n")
     print(open(os.path.join(folder, name + ".md")).read())
+
+
+def richardson(spacings, values):
+    """(limit, observed order) from three values at spacings h1 > h2 > h3
+    refined by one constant ratio, f = f_limit + C h^p; None when the ratio
+    is not constant or the two steps differ in sign (no order exists)."""
+    (h1, h2, h3), (f1, f2, f3) = spacings, values
+    ratio = h1 / h2
+    if abs(h2 / h3 - ratio) > 1e-9 * ratio or (f1 - f2) * (f2 - f3) <= 0:
+        return None
+    order = math.log((f1 - f2) / (f2 - f3)) / math.log(ratio)
+    return f3 + (f3 - f2) / (ratio ** order - 1), order
