@@ -93,7 +93,7 @@ static int bench_step(struct solver *s, double cfl, struct reduction *red, doubl
                       char *error, size_t error_size)
 {
     const double no_load[3] = {0, 0, 0};
-    const double dt = cfl * s->run.h / red->max_signal;
+    const double dt = solver_time_step(s, cfl, red->max_signal);
     if (solver_advance(s, dt, *dt_prev, no_load, red, error, error_size))
         return 1;
     *dt_prev = dt;
@@ -114,7 +114,7 @@ static int step_scene(struct solver *s, const struct sph_case *c, const struct b
         return 1;
     solver_prime(s);
     solver_reduce(s, no_load, &red);
-    dt_prev = c->numerics.cfl * s->run.h / red.max_signal;
+    dt_prev = solver_time_step(s, c->numerics.cfl, red.max_signal);
     for (int k = 0; k < o->warmup; ++k)
         if (bench_step(s, c->numerics.cfl, &red, &dt_prev, error, error_size))
             return 1;

@@ -376,10 +376,14 @@ static void describe(const struct ctx *x, const struct field *f, char *buf, size
         break;
     case K_VECTOR: {
         const int n = f->aux ? (int)f->aux : x->c->dimension;
-        snprintf(buf, size, "a sequence of %d numbers [", n);
-        join(buf, size, axes, n, NULL);
+        snprintf(buf, size, "a sequence of %d numbers", n);
+        if (n <= 3) { /* an axis each; longer ones (a tensor row by row) say so in README */
+            strncat(buf, " [", size - strlen(buf) - 1);
+            join(buf, size, axes, n, NULL);
+            strncat(buf, "]", size - strlen(buf) - 1);
+        }
         const size_t len = strlen(buf);
-        snprintf(buf + len, size - len, "]%s%s%s", unit_open, unit, unit_close);
+        snprintf(buf + len, size - len, "%s%s%s", unit_open, unit, unit_close);
         break;
     }
     case K_MAP:
@@ -473,6 +477,9 @@ static int read_ref(struct ctx *x, const struct field *f, int *p, int at, int va
 }
 
 /* Bytes of the member: fixed-length vectors are that long, the others [3]. */
+/* The longest K_VECTOR (bodies[].velocity_gradient's 9). */
+#define VECTOR_MAX 9
+
 static size_t vector_size(const struct field *f)
 {
     return (f->aux ? f->aux : 3) * sizeof(double);
@@ -485,7 +492,7 @@ static int read_vector(struct ctx *x, const struct field *f, double *p, int at, 
     if (n->type != YAML_SEQUENCE_NODE ||
         n->data.sequence.items.top - n->data.sequence.items.start != len)
         return expected(x, f, at, value);
-    double v[3] = {0, 0, 0};
+    double v[VECTOR_MAX] = {0};
     for (int i = 0; i < len; ++i) {
         const int item = n->data.sequence.items.start[i];
         if (parse_number(node(x, item), &v[i]))
@@ -790,6 +797,23 @@ double case_material_sound_speed(const struct case_material *m)
     return sqrt((bulk + 4.0 * shear / 3.0) / m->density);
 }
 
+int case_has_viscosity(const struct sph_case *c)
+{
+    for (int m = 0; m < c->material_count; ++m)
+        if (c->materials[m].viscosity > 0)
+            return 1;
+    return 0;
+}
+
+double case_viscous_time_step(const struct sph_case *c, double h)
+{
+    double dt = HUGE_VAL;
+    for (int m = 0; m < c->material_count; ++m)
+        if (c->materials[m].viscosity > 0)
+            dt = fmin(dt, 0.125 * h * h * c->materials[m].density / c->materials[m].viscosity);
+    return dt;
+}
+
 static int check_johnson_cook(struct ctx *x, const struct frame *fr, void *base)
 {
     const struct case_johnson_cook *j = base;
@@ -827,6 +851,11 @@ static int check_body(struct ctx *x, const struct frame *fr, void *base)
     if (cylinder && !(b->inner_radius < b->radius))
         return fail(x, line_of(fr, "inner_radius"), subkey(x, "inner_radius"),
                     "expected less than radius (%g m), got %g", b->radius, b->inner_radius);
+    for (int k = 0; k < 9 && x->c->dimension == 2; ++k)
+        if ((k / 3 == 2 || k % 3 == 2) && b->velocity_gradient[k] != 0)
+            return fail(x, line_of(fr, "velocity_gradient"), subkey(x, "velocity_gradient"),
+                        "expected 0 for the z entries in 2-D (entry %d is %g)", k + 1,
+                        b->velocity_gradient[k]);
     b->has_centre = given(fr, "centre") != 0;
     if (!b->has_centre)
         for (int a = 0; a < 3; ++a)
@@ -1149,6 +1178,7 @@ static const struct field material_fields[] = {
     ENUM("failure", struct case_material, failure, 0, SPH_FAILURE_NONE, failure_names, NULL),
     NUMBER("failure_strain", struct case_material, failure_strain, F_OMIT_ZERO, R_POSITIVE, 0, 0, 0,
            NULL),
+    NUMBER("viscosity", struct case_material, viscosity, 0, R_NONNEG, 0, 0, 0, "Pa s"),
 };
 
 static const struct field grading_fields[] = {
@@ -1203,6 +1233,7 @@ static const struct field body_fields[] = {
     VECTOR("max", struct case_body, box.max, F_REQUIRED, 0, "m", NULL),
     BOOL("fixed", struct case_body, fixed),
     VECTOR("velocity", struct case_body, velocity, 0, 0, "m/s", NULL),
+    VECTOR("velocity_gradient", struct case_body, velocity_gradient, 0, 9, "1/s", NULL),
     MAP("grading", F_ENABLE, offsetof(struct case_body, grading),
         offsetof(struct case_body, grading.enabled), grading_schema),
 };

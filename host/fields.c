@@ -59,6 +59,10 @@ const struct field_info field_table[FIELD_COUNT] = {
                                  TL | USED_AV_LIMITED, USED_AV_LIMITED, MIRROR_REFLECT, NULL},
     [FIELD_AV_ALPHA] = {"artificial_viscosity_alpha", "av_alpha", ELEM_REAL, 1, USED_AV_SWITCH,
                         USED_AV_SWITCH, MIRROR_COPY, "1"},
+    /* kept apart so that the elastic part integrates on its own
+     * (kernels/material.cl); pass 2 reads only the sum, deviatoric_stress */
+    [FIELD_VISCOUS_STRESS] = {"viscous_stress", "viscous_stress", ELEM_SYMT, 1, USED_VISCOSITY, 0,
+                              MIRROR_NONE, NULL},
     /* the updated form's pass 1 uses its density rate at once */
     [FIELD_DENSITY_RATE] = {"density_rate", "density_rate", ELEM_REAL, 0, TL, 0, MIRROR_NONE, NULL},
     [FIELD_ACCELERATION] = {"acceleration", "acceleration", ELEM_VEC, 0, ALL, 0, MIRROR_NONE, NULL},
@@ -83,7 +87,7 @@ unsigned solver_configuration(const struct solver *s)
            (s->csph ? USED_CSPH : 0u) | (s->av_scheme == SPH_AV_LIMITED ? USED_AV_LIMITED : 0u) |
            (s->av_scheme == SPH_AV_SWITCH ? USED_AV_SWITCH : 0u) |
            (s->artificial_stress ? USED_ARTIFICIAL_STRESS : 0u) |
-           (s->wall_count > 0 ? USED_WALLS : 0u);
+           (s->wall_count > 0 ? USED_WALLS : 0u) | (s->viscosity ? USED_VISCOSITY : 0u);
 }
 
 int solver_field_used(const struct solver *s, enum field f)

@@ -218,7 +218,7 @@ static int one_step(struct loop *L)
     double load[3];
     load_vector(L, L->t, load); /* F(t^n): the kick of this step uses it */
     const double end = L->c->numerics.end_time;
-    L->dt_cfl = L->c->numerics.cfl * L->s->run.h / L->red.max_signal;
+    L->dt_cfl = solver_time_step(L->s, L->c->numerics.cfl, L->red.max_signal);
     L->dt = L->dt_cfl;
     if (L->t + L->dt > end)
         L->dt = fmax(end - L->t, 1e-30);
@@ -571,7 +571,7 @@ static int start(struct loop *L, char *error, size_t size)
     solver_prime(L->s);
     const double zero[3] = {0, 0, 0};
     solver_reduce(L->s, zero, &L->red);
-    L->dt_initial = L->c->numerics.cfl * L->s->run.h / L->red.max_signal;
+    L->dt_initial = solver_time_step(L->s, L->c->numerics.cfl, L->red.max_signal);
     L->dt = L->dt_cfl = L->dt_initial;
     L->energy.start = total_energy(L);
     ballistics_track_start(&L->ballistics);

@@ -88,6 +88,18 @@ struct fill_context {
     int body, n;
 };
 
+/* A body particle's initial velocity at x (case_body.velocity_gradient). */
+static void initial_velocity(const struct case_body *body, const double x[3], double *v)
+{
+    for (int a = 0; a < 3; ++a) {
+        v[a] = body->velocity[a];
+        for (int b = 0; b < 3; ++b)
+            v[a] += body->velocity_gradient[3 * a + b] * (x[b] - body->centre[b]);
+        if (body->fixed)
+            v[a] = 0.0;
+    }
+}
+
 static void put_particle(struct fill_context *f, const double x[3], int level, int reach)
 {
     const struct sph_case *c = f->c;
@@ -96,10 +108,9 @@ static void put_particle(struct fill_context *f, const double x[3], int level, i
     const int n = f->n, dim = c->dimension;
     const int axisymmetric = dim == 2 && c->plane == SPH_PLANE_AXISYMMETRIC;
     const double spacing = c->numerics.dx * (1 << level);
-    for (int a = 0; a < 3; ++a) {
+    for (int a = 0; a < 3; ++a)
         f->s->position[3 * n + a] = x[a];
-        f->s->velocity[3 * n + a] = body->fixed ? 0.0 : body->velocity[a];
-    }
+    initial_velocity(body, x, &f->s->velocity[3 * n]);
     f->s->density[n] = m->density;
     f->s->mass[n] = m->density * pow(spacing, dim) * (axisymmetric ? x[0] : 1.0);
     f->s->material[n] = body->material;
@@ -157,10 +168,9 @@ static int fill_bodies(const struct sph_case *c, struct sph_scene *s, int *body_
                         x[a] = a < dim ? start[a] + idx[a] * dx : 0.0;
                     if (!in_shape(body, x, dim))
                         continue;
-                    for (int a = 0; a < 3; ++a) {
+                    for (int a = 0; a < 3; ++a)
                         s->position[3 * n + a] = x[a];
-                        s->velocity[3 * n + a] = body->fixed ? 0.0 : body->velocity[a];
-                    }
+                    initial_velocity(body, x, &s->velocity[3 * n]);
                     s->density[n] = m->density;
                     /* axisymmetric: the ring's mass per radian, rho0 r dx^2 */
                     s->mass[n] = m->density * pow(dx, dim) * (axisymmetric ? x[0] : 1.0);

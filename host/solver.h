@@ -50,6 +50,7 @@ enum field {
     FIELD_FIRST_PIOLA,          /* total Lagrangian only: P C^T */
     FIELD_VELOCITY_GRADIENT,    /* total Lagrangian, or the limited viscosity (pass 1 -> pass 2) */
     FIELD_AV_ALPHA,             /* the switch viscosity's alpha per particle */
+    FIELD_VISCOUS_STRESS,       /* the physical viscosity's part of deviatoric_stress */
     FIELD_DENSITY_RATE,
     FIELD_ACCELERATION,
     FIELD_ENERGY_RATE,
@@ -73,6 +74,7 @@ enum field_use {
     USED_AV_SWITCH = 1 << 4,
     USED_ARTIFICIAL_STRESS = 1 << 5,
     USED_WALLS = 1 << 6,
+    USED_VISCOSITY = 1 << 7,
 };
 
 struct field_info {
@@ -182,8 +184,10 @@ struct solver {
     int graded;                  /* some body has a graded lattice (SPH_GRADED) */
     int lanes;                   /* particles per work-item of passes 1 and 2 (solver_lanes) */
     int csph, artificial_stress; /* the corrections in use: their fields exist */
+    int viscosity;               /* some material has a physical viscosity */
     int av_scheme;               /* enum sph_av_scheme: its fields exist */
     double dx;                   /* lattice spacing, m */
+    double dt_viscous;           /* the physical viscosity's time step limit, s */
     size_t element_size[ELEM_COUNT];
     cl_mem field[FIELD_COUNT];
     cl_mem gather_spare; /* one field of the largest element: the gather target */
@@ -265,6 +269,10 @@ int solver_sort(struct solver *s, char *error, size_t error_size);
 /* Pressure, sound speed and artificial stress of the initial state (before
  * step 1 and its time step). */
 void solver_prime(struct solver *s);
+/* The next time step (s) from the last reduction's largest signal speed
+ * (m/s): cfl h / max_signal, or the physical viscosity's limit when that is
+ * smaller (case_viscous_time_step). */
+double solver_time_step(const struct solver *s, double cfl, double max_signal);
 /* One leap-frog step (see kernels/integrate.cl): pass 2, kick, pass 1,
  * material update, drift. `load` is the force per loaded particle at t^n. */
 void solver_step(struct solver *s, double dt, double dt_prev, const double load[3]);

@@ -15,6 +15,7 @@ void solver_configure(struct solver *s, const struct sph_case *c)
     s->csph = c->numerics.csph;
     s->av_scheme = c->numerics.av_scheme;
     s->artificial_stress = c->numerics.as_epsilon > 0;
+    s->viscosity = case_has_viscosity(c);
     s->wall_count = c->wall_count; /* wall_force exists only with walls */
     const size_t r = s->double_precision ? sizeof(cl_double) : sizeof(cl_float);
     s->element_size[ELEM_REAL] = r;
@@ -63,23 +64,25 @@ void solver_build_options(const struct sph_case *c, char *options, size_t size)
     /* -w: PoCL's compiler prints ABI notes (-Wpsabi) about float8/float16
      * arguments on every first build; the sources are kept free of real
      * warnings with clang -x cl -fsyntax-only -Wall (docs/ARCHITECTURE.md) */
-    snprintf(options, size,
-             "-cl-std=CL1.2 -cl-kernel-arg-info -w -DSPH_DIM=%d -DSPH_KERNEL=%d%s%s%s%s%s%s%s%s%s",
-             c->dimension, (int)num->kernel, solver_case_graded(c) ? " -DSPH_GRADED" : "",
-             c->dimension == 2 && c->plane == SPH_PLANE_STRESS         ? " -DSPH_PLANE_STRESS"
-             : c->dimension == 2 && c->plane == SPH_PLANE_AXISYMMETRIC ? " -DSPH_AXISYMMETRIC"
-                                                                       : "",
-             num->csph ? " -DSPH_CSPH" : "",
-             num->as_epsilon > 0
-                 ? (num->as_lattice_weight ? " -DSPH_ARTIFICIAL_STRESS -DSPH_AS_LATTICE_WEIGHT"
-                                           : " -DSPH_ARTIFICIAL_STRESS")
-                 : "",
-             num->xsph_epsilon > 0 ? " -DSPH_XSPH" : "", plastic ? " -DSPH_PLASTICITY" : "",
-             num->av_scheme == SPH_AV_LIMITED  ? " -DSPH_AV_LIMITED"
-             : num->av_scheme == SPH_AV_SWITCH ? " -DSPH_AV_SWITCH"
-                                               : "",
-             num->double_precision ? " -DSPH_DOUBLE" : "",
-             num->total_lagrangian ? " -DSPH_TOTAL_LAGRANGIAN" : "");
+    snprintf(
+        options, size,
+        "-cl-std=CL1.2 -cl-kernel-arg-info -w -DSPH_DIM=%d -DSPH_KERNEL=%d%s%s%s%s%s%s%s%s%s%s",
+        c->dimension, (int)num->kernel, solver_case_graded(c) ? " -DSPH_GRADED" : "",
+        c->dimension == 2 && c->plane == SPH_PLANE_STRESS         ? " -DSPH_PLANE_STRESS"
+        : c->dimension == 2 && c->plane == SPH_PLANE_AXISYMMETRIC ? " -DSPH_AXISYMMETRIC"
+                                                                  : "",
+        num->csph ? " -DSPH_CSPH" : "",
+        num->as_epsilon > 0
+            ? (num->as_lattice_weight ? " -DSPH_ARTIFICIAL_STRESS -DSPH_AS_LATTICE_WEIGHT"
+                                      : " -DSPH_ARTIFICIAL_STRESS")
+            : "",
+        num->xsph_epsilon > 0 ? " -DSPH_XSPH" : "", plastic ? " -DSPH_PLASTICITY" : "",
+        num->av_scheme == SPH_AV_LIMITED  ? " -DSPH_AV_LIMITED"
+        : num->av_scheme == SPH_AV_SWITCH ? " -DSPH_AV_SWITCH"
+                                          : "",
+        num->double_precision ? " -DSPH_DOUBLE" : "",
+        num->total_lagrangian ? " -DSPH_TOTAL_LAGRANGIAN" : "",
+        case_has_viscosity(c) ? " -DSPH_VISCOSITY" : "");
     const size_t used = strlen(options);
     /* SPH_BUILD_OPTIONS: kernel developers' experiments, extra -D or -cl-* options */
     const char *extra = getenv("SPH_BUILD_OPTIONS");
@@ -253,6 +256,7 @@ static struct material_double material_entry(const struct case_material *cm)
     m.failure_strain = cm->failure == SPH_FAILURE_NONE    ? -1.0
                        : cm->failure == SPH_FAILURE_YIELD ? 0.0
                                                           : cm->failure_strain;
+    m.viscosity = cm->viscosity;
     m.eos = cm->eos;
     m.strength = cm->strength;
     return m;

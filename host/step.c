@@ -50,6 +50,11 @@ static void create_kernels(struct solver *s)
     step_kernels(s, 1);
 }
 
+double solver_time_step(const struct solver *s, double cfl, double max_signal)
+{
+    return fmin(cfl * s->run.h / max_signal, s->dt_viscous);
+}
+
 static void release_kernels(struct solver *s)
 {
     step_kernels(s, 0);
@@ -60,6 +65,7 @@ static void fill_run_params(struct solver *s, const struct sph_case *c)
     const struct case_numerics *num = &c->numerics;
     const double h = num->h_over_dx * num->dx;
     s->run.h = (real)h;
+    s->dt_viscous = case_viscous_time_step(c, h);
     s->run.support = (real)(h * sph_support_q(num->kernel));
     s->run.av_alpha = (real)num->av_alpha;
     s->run.av_beta = (real)num->av_beta;

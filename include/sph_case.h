@@ -76,6 +76,7 @@ struct case_material {
     double taylor_quinney;    /* fraction of plastic work that heats, default 0.9 */
     enum sph_failure failure; /* default none */
     double failure_strain;    /* required with failure plastic_strain */
+    double viscosity;         /* Pa s, Newtonian shear viscosity, default 0 (none) */
 };
 
 /* A region: an axis-aligned box [min, max] (m). In 2-D the z entries are 0. */
@@ -106,6 +107,10 @@ struct case_body {
     int has_centre;
     int fixed;          /* every particle of the body has zero velocity */
     double velocity[3]; /* initial velocity, m/s, default 0 */
+    /* initial velocity gradient G, 1/s, row-major (dv_x/dx, dv_x/dy,
+     * dv_x/dz, dv_y/dx, ...): a particle at x starts at velocity +
+     * G (x - centre); default 0 */
+    double velocity_gradient[9];
     /* Graded lattice (host/scene.c): spacing dx inside the fine box, then
      * shells of `layers` particles at 2 dx, 4 dx, ... up to 2^levels dx,
      * which fills the rest of the body. */
@@ -266,6 +271,12 @@ char *case_resolved_text(const struct sph_case *c, size_t *length);
  * EOS's bulk modulus and its shear modulus, m/s (case_load refuses a
  * material where it is not positive and finite). */
 double case_material_sound_speed(const struct case_material *m);
+/* Whether some material has a physical viscosity (materials[].viscosity). */
+int case_has_viscosity(const struct sph_case *c);
+/* The explicit time step's limit from the physical viscosity for a smoothing
+ * length h (m): 0.125 h^2 min(rho0 / eta) (Morris, Fox & Zhu 1997, J.
+ * Comput. Phys. 136:214, eq. 5.1), s; HUGE_VAL without viscosity. */
+double case_viscous_time_step(const struct sph_case *c, double h);
 /* The fastest initial body speed (and the projectile's, with_projectile),
  * m/s. */
 double case_fastest_speed(const struct sph_case *c, int with_projectile);

@@ -128,13 +128,16 @@ enum sph_contact_slot {
  *   taylor_quinney     fraction of plastic work that heats
  *   failure_strain     equivalent plastic strain past which the particle
  *                      fails (0: at first yield, the thesis' soft-tissue
- *                      criterion); negative: no failure */
+ *                      criterion); negative: no failure
+ *   viscosity          Newtonian shear viscosity eta, Pa s: the deviatoric
+ *                      stress carries 2 eta D' on top of the elastic part
+ *                      (kernels/material.cl); 0: none */
 /* clang-format off */
 #define SPH_MATERIAL_REALS(X)                                                                      \
     X(density) X(bulk_modulus) X(shear_modulus) X(sound_speed) X(yield_stress) X(hardening_b)     \
     X(hardening_n) X(plane_stress_nu) X(eos_c0) X(eos_s) X(eos_gamma0) X(eos_p0) X(jc_rate_c)     \
     X(jc_reference_rate) X(jc_thermal_m) X(melt_temperature) X(room_temperature)                  \
-    X(heat_capacity) X(taylor_quinney) X(failure_strain)
+    X(heat_capacity) X(taylor_quinney) X(failure_strain) X(viscosity)
 /* clang-format on */
 #define SPH_DECLARE_REAL(name) real name;
 struct sph_material {

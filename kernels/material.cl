@@ -179,10 +179,31 @@ static inline bool particle_failed(__constant const struct sph_material *m, real
         __global symt *restrict deviatoric_stress, __global real *restrict plastic_strain,         \
         __global real *restrict temperature, __global const real *restrict energy_rate,            \
         __global real *restrict pressure, __global real *restrict sound_speed,                     \
-        __global symt *restrict artificial_stress
+        __global symt *restrict artificial_stress, __global symt *restrict viscous_stress
 #define MATERIAL_STATE                                                                             \
     density_change, energy, deviatoric_stress, plastic_strain, temperature, energy_rate, pressure, \
-        sound_speed, artificial_stress
+        sound_speed, artificial_stress, viscous_stress
+
+#ifdef SPH_VISCOSITY
+/* The Newtonian viscous stress 2 eta D' (D' the deviatoric part of the
+ * strain rate; axisymmetric: the hoop rate is in D) of particle i, and the
+ * elastic part of the stored deviatoric stress: deviatoric_stress holds
+ * their sum, which is what pass 2's forces and the energy equation use, so
+ * the viscous heating 2 eta D' : D' enters the internal energy with the
+ * stress power; viscous_stress keeps the viscous part apart so that only
+ * the elastic part is rotated, integrated and returned to the yield
+ * surface. */
+static inline void viscous_stress_of(__constant const struct sph_material *m, real d[3][3],
+                                     real sv[3][3])
+{
+    const real trace_third = (d[0][0] + d[1][1] + d[2][2]) / (real)3;
+#pragma unroll
+    for (int a = 0; a < 3; ++a)
+#pragma unroll
+        for (int b = 0; b < 3; ++b)
+            sv[a][b] = (real)2 * m->viscosity * (d[a][b] - (a == b ? trace_third : (real)0));
+}
+#endif
 
 /* S^(n+1) from S^n: the Jaumann rate with the step's strain rate d and spin
  * w (none for failed material: a fluid), then the plastic return. Returns
@@ -224,13 +245,16 @@ static inline real deviatoric_update(__constant const struct sph_material *m, re
     return power;
 }
 
-/* The end-of-step stress state: a particle that has failed (thesis 4.3.2)
- * keeps no deviatoric stress and no tension; the artificial stress R of
- * the total stress (Monaghan 2000) for the next pass 2. */
+/* The end-of-step stress state from the elastic deviatoric stress s: a
+ * particle that has failed (thesis 4.3.2) keeps no elastic deviatoric
+ * stress and no tension, but its viscous stress (a viscous fluid); the
+ * artificial stress R of the total stress (Monaghan 2000) for the next
+ * pass 2. */
 static inline void store_stress(__constant const struct sph_material *m, real s[3][3], real p,
                                 real density, bool was_failed,
                                 __constant const struct sph_run_params *run,
                                 __global const real *plastic_strain_i,
+                                __global const symt *viscous_stress_i,
                                 __global symt *deviatoric_stress_i, __global real *pressure_i,
                                 __global symt *artificial_stress_i)
 {
@@ -243,15 +267,25 @@ static inline void store_stress(__constant const struct sph_material *m, real s[
             for (int b = 0; b < 3; ++b)
                 s[a][b] = 0;
     }
-    *deviatoric_stress_i = symt_store(s);
     *pressure_i = failed ? fmax(p, (real)0) : p;
 #else
     (void)m;
     (void)was_failed;
     (void)plastic_strain_i;
-    *deviatoric_stress_i = symt_store(s);
     *pressure_i = p;
 #endif
+#ifdef SPH_VISCOSITY
+    real sv[3][3];
+    symt_load(*viscous_stress_i, sv);
+#pragma unroll
+    for (int a = 0; a < 3; ++a)
+#pragma unroll
+        for (int b = 0; b < 3; ++b)
+            s[a][b] += sv[a][b];
+#else
+    (void)viscous_stress_i;
+#endif
+    *deviatoric_stress_i = symt_store(s);
 #ifdef SPH_ARTIFICIAL_STRESS
     real sigma[3][3], r[3][3];
 #pragma unroll
@@ -299,7 +333,32 @@ material_update_particle(int i, real l[3][3], real density_rate_i, real dt,
     const bool was_failed = (flags[i] & SPH_FLAG_DAMAGED) != 0;
     const real p_old = pressure[i];
     const real trace_d = d[0][0] + d[1][1] + d[2][2];
+#ifdef SPH_VISCOSITY
+    /* s is the elastic part below; the viscous part's two halves of the
+     * stress power, S_v^n : d + S_v^(n+1) : d, are added to its own */
+    real sv[3][3];
+    symt_load(viscous_stress[i], sv);
+    real power_viscous = 0;
+#pragma unroll
+    for (int a = 0; a < 3; ++a)
+#pragma unroll
+        for (int b = 0; b < 3; ++b) {
+            s[a][b] -= sv[a][b];
+            power_viscous += sv[a][b] * d[a][b];
+        }
+    viscous_stress_of(m, d, sv);
+#pragma unroll
+    for (int a = 0; a < 3; ++a)
+#pragma unroll
+        for (int b = 0; b < 3; ++b)
+            power_viscous += sv[a][b] * d[a][b];
+    viscous_stress[i] = symt_store(sv);
+#else
+    (void)viscous_stress;
+    const real power_viscous = 0;
+#endif
     const real power_deviatoric =
+        power_viscous +
         deviatoric_update(m, s, d, w, was_failed, dt, rho[i], &plastic_strain[i], &temperature[i]);
     /* continuity drho/dt = -rho div v integrated exactly for the step's
      * divergence: rho^(n+1) = rho^n exp(-dt div v), which stays positive
@@ -331,8 +390,8 @@ material_update_particle(int i, real l[3][3], real density_rate_i, real dt,
     /* the artificial viscosity and the time step follow the stiffening of
      * compressed material (Monaghan 1992: c_i is particle i's own speed) */
     sound_speed[i] = sound_speed_current(m, density, e);
-    store_stress(m, s, p, density, was_failed, run, &plastic_strain[i], &deviatoric_stress[i],
-                 &pressure[i], &artificial_stress[i]);
+    store_stress(m, s, p, density, was_failed, run, &plastic_strain[i], &viscous_stress[i],
+                 &deviatoric_stress[i], &pressure[i], &artificial_stress[i]);
     return density;
 }
 
@@ -341,7 +400,8 @@ material_update_particle(int i, real l[3][3], real density_rate_i, real dt,
  * reads: velocity_gradient, density_rate, energy_rate, material, flags,
  *        pressure (p^n), pos and vel_half (axisymmetric hoop rate);
  * updates: density_change, energy, deviatoric_stress, plastic_strain,
- *          temperature; writes: rho, pressure, artificial_stress. */
+ *          temperature, viscous_stress (SPH_VISCOSITY); writes: rho,
+ *          pressure, artificial_stress. */
 __kernel void material_update(
     __global real *restrict rho, __global const fullt *restrict velocity_gradient,
     __global const real *restrict density_rate, __global const int *restrict material,
