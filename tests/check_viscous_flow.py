@@ -18,7 +18,7 @@ and the internal energy per mass, from the stress power sigma : D,
 
     e = (2 eta D:D t + G D:D t^2) / rho0.
 
-Flows: simple shear v_x = y in plane strain and in 3-D (sigma_xy = 1.0577
+Flows: simple shear v_x = y in plane strain (both formulations) and in 3-D (sigma_xy = 1.0577
 Pa, e = 5.1442e-6 J/kg), and in the axisymmetric form the isochoric
 expansion v_r = r, v_z = -2 z, whose hoop rate v_r / r carries a third of
 the dissipation (sigma_rr = sigma_hoop = 2.1154 Pa, sigma_zz = -4.2308 Pa,
@@ -53,6 +53,7 @@ bodies:
     velocity_gradient: {gradient}
 numerics:
   dx: {dx}
+  formulation: {formulation}
   h_over_dx: 1.2
   artificial_viscosity: {{alpha: 0, beta: 0}}
   xsph: 0
@@ -67,6 +68,8 @@ output:
 # strain rate D in the snapshot's axes (x, y, z; axisymmetric: r, z, hoop)
 FLOWS = [
     ("shear_plane_strain", 2, "plane: strain", [0, 0], [0.04, 0.04], [0, 0],
+     [0, 1, 0, 0, 0, 0, 0, 0, 0], [[0, 0.5, 0], [0.5, 0, 0], [0, 0, 0]]),
+    ("shear_total_lagrangian", 2, "plane: strain", [0, 0], [0.04, 0.04], [0, 0],
      [0, 1, 0, 0, 0, 0, 0, 0, 0], [[0, 0.5, 0], [0.5, 0, 0], [0, 0, 0]]),
     ("shear_3d", 3, "", [0, 0, 0], [0.024, 0.024, 0.024], [0, 0, 0],
      [0, 1, 0, 0, 0, 0, 0, 0, 0], [[0, 0.5, 0], [0.5, 0, 0], [0, 0, 0]]),
@@ -87,7 +90,9 @@ def check_flow(sph, work, flow):
     path = os.path.join(folder, "case.yaml")
     with open(path, "w") as f:
         f.write(CASE.format(name=name, dim=dim, plane=plane, rho=RHO, E=E, nu=NU, eta=ETA,
-                            lo=lo, hi=hi, velocity=velocity, gradient=gradient, dx=DX, t=T_END))
+                            lo=lo, hi=hi, velocity=velocity, gradient=gradient, dx=DX, t=T_END,
+                            formulation="total_lagrangian" if "total" in name
+                            else "updated_lagrangian"))
     out = os.path.join(folder, "run")
     proc = subprocess.run([sph, "run", path, "--out", out, "--quiet"], capture_output=True,
                           text=True)
