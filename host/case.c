@@ -1179,6 +1179,8 @@ static const struct field material_fields[] = {
     NUMBER("failure_strain", struct case_material, failure_strain, F_OMIT_ZERO, R_POSITIVE, 0, 0, 0,
            NULL),
     NUMBER("viscosity", struct case_material, viscosity, 0, R_NONNEG, 0, 0, 0, "Pa s"),
+    NUMBER("cavitation_pressure", struct case_material, cavitation_pressure, 0, R_NONNEG, 0, 0, 0,
+           "Pa"),
 };
 
 static const struct field grading_fields[] = {

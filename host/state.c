@@ -257,6 +257,7 @@ static struct material_double material_entry(const struct case_material *cm)
                        : cm->failure == SPH_FAILURE_YIELD ? 0.0
                                                           : cm->failure_strain;
     m.viscosity = cm->viscosity;
+    m.cavitation_pressure = cm->cavitation_pressure;
     m.eos = cm->eos;
     m.strength = cm->strength;
     return m;

@@ -71,12 +71,13 @@ struct case_material {
     enum sph_strength_type strength; /* "elastic" (default), "perfectly_plastic", "johnson_cook" */
     double yield_stress;             /* Pa (Johnson-Cook A), required unless elastic */
     struct case_johnson_cook johnson_cook;
-    double room_temperature;  /* K, initial temperature, default 293 */
-    double heat_capacity;     /* J/(kg K), required for johnson_cook */
-    double taylor_quinney;    /* fraction of plastic work that heats, default 0.9 */
-    enum sph_failure failure; /* default none */
-    double failure_strain;    /* required with failure plastic_strain */
-    double viscosity;         /* Pa s, Newtonian shear viscosity, default 0 (none) */
+    double room_temperature;    /* K, initial temperature, default 293 */
+    double heat_capacity;       /* J/(kg K), required for johnson_cook */
+    double taylor_quinney;      /* fraction of plastic work that heats, default 0.9 */
+    enum sph_failure failure;   /* default none */
+    double failure_strain;      /* required with failure plastic_strain */
+    double viscosity;           /* Pa s, Newtonian shear viscosity, default 0 (none) */
+    double cavitation_pressure; /* Pa, tension a failed particle carries, default 0 */
 };
 
 /* A region: an axis-aligned box [min, max] (m). In 2-D the z entries are 0. */

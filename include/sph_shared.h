@@ -131,13 +131,15 @@ enum sph_contact_slot {
  *                      criterion); negative: no failure
  *   viscosity          Newtonian shear viscosity eta, Pa s: the deviatoric
  *                      stress carries 2 eta D' on top of the elastic part
- *                      (kernels/material.cl); 0: none */
+ *                      (kernels/material.cl); 0: none
+ *   cavitation_pressure  the most tension a failed particle carries, Pa
+ *                      (kernels/material.cl, failed_pressure) */
 /* clang-format off */
 #define SPH_MATERIAL_REALS(X)                                                                      \
     X(density) X(bulk_modulus) X(shear_modulus) X(sound_speed) X(yield_stress) X(hardening_b)     \
     X(hardening_n) X(plane_stress_nu) X(eos_c0) X(eos_s) X(eos_gamma0) X(eos_p0) X(jc_rate_c)     \
     X(jc_reference_rate) X(jc_thermal_m) X(melt_temperature) X(room_temperature)                  \
-    X(heat_capacity) X(taylor_quinney) X(failure_strain) X(viscosity)
+    X(heat_capacity) X(taylor_quinney) X(failure_strain) X(viscosity) X(cavitation_pressure)
 /* clang-format on */
 #define SPH_DECLARE_REAL(name) real name;
 struct sph_material {

@@ -245,6 +245,25 @@ static inline real deviatoric_update(__constant const struct sph_material *m, re
     return power;
 }
 
+/* Failed material (thesis 4.3.2) carries no tension beyond its cavitation
+ * pressure p_cav (materials[].cavitation_pressure, default 0): below
+ * -p_cav it opens voids instead of stretching. */
+static inline real failed_pressure(__constant const struct sph_material *m, real p)
+{
+    return fmax(p, -m->cavitation_pressure);
+}
+
+/* ... so its density stops falling where the EOS's tension branch reaches
+ * -p_cav: rho0 (1 - p_cav / K0), K0 = rho0 c^2 - 4G/3 the EOS's bulk
+ * modulus at rho0 (c the reference longitudinal wave speed); rho0 itself
+ * with the default p_cav = 0. */
+static inline real failed_density_change_floor(__constant const struct sph_material *m)
+{
+    const real bulk =
+        m->density * m->sound_speed * m->sound_speed - (real)4 / (real)3 * m->shear_modulus;
+    return -m->density * fmin(m->cavitation_pressure / bulk, (real)0.99);
+}
+
 /* The end-of-step stress state from the elastic deviatoric stress s: a
  * particle that has failed (thesis 4.3.2) keeps no elastic deviatoric
  * stress and no tension, but its viscous stress (a viscous fluid); the
@@ -267,7 +286,7 @@ static inline void store_stress(__constant const struct sph_material *m, real s[
             for (int b = 0; b < 3; ++b)
                 s[a][b] = 0;
     }
-    *pressure_i = failed ? fmax(p, (real)0) : p;
+    *pressure_i = failed ? failed_pressure(m, p) : p;
 #else
     (void)m;
     (void)was_failed;
@@ -365,23 +384,24 @@ material_update_particle(int i, real l[3][3], real density_rate_i, real dt,
      * where fragments fly apart (the explicit update crosses zero once
      * dt div v > 1) and agrees with it to first order otherwise */
     const real rho_old = m->density + density_change[i];
-    /* ... and, once failed, not below rho0: material that carries no
-     * tension opens voids between its pieces instead of stretching, so the
-     * pieces keep the density of the unloaded material (the pressure
-     * cut-off's zero pressure). In the continuity equation a piece flung
+    /* ... and, once failed, not below the density of its cavitation
+     * pressure (rho0 by default): material that carries no more tension
+     * opens voids between its pieces instead of stretching, so the pieces
+     * keep the density of the pressure cut-off. In the continuity equation a piece flung
      * off the target (debris in a cavity) would otherwise keep expanding
      * until its density underflows, and when it meets the cavity wall
      * again the pair force, (sigma_i + sigma_j) / (rho_i rho_j), grows as
      * 1 / rho_i (a 100x force at the former floor rho0 / 100 blew up the
      * SEBS runs). Intact material keeps that floor against underflow. */
-    const real change_floor = was_failed ? (real)0 : (real)-0.99 * m->density;
+    const real change_floor =
+        was_failed ? failed_density_change_floor(m) : (real)-0.99 * m->density;
     const real change =
         fmax(density_change[i] + rho_old * expm1(dt * density_rate_i / rho_old), change_floor);
     const real density = m->density + change;
     const real e_trial = energy[i] + dt * energy_rate[i];
     real p_trial = pressure_eos(m, change / m->density, e_trial);
     if (was_failed)
-        p_trial = fmax(p_trial, (real)0);
+        p_trial = failed_pressure(m, p_trial);
     const real power = (real)0.5 * (power_deviatoric - (p_old + p_trial) * trace_d);
     const real e = e_trial + dt * power / rho[i];
     const real p = pressure_eos(m, change / m->density, e);

@@ -1,0 +1,212 @@
+#!/usr/bin/python3
+"""Material laws against hand-computed homogeneous flows.
+
+usage: check_homogeneous_flow.py SPH WORKDIR
+
+A block starts with a linear velocity field (bodies[].velocity_gradient)
+and runs a few tens of steps. Away from its free faces (further than the
+disturbance they send in travels: by wave c t, by diffusion sqrt(eta t /
+rho)) the flow stays homogeneous, and the interior particles' stress,
+internal energy and density are checked against the hand values below.
+
+The physical viscosity (materials[].viscosity): a soft viscous solid
+(rho0 = 1000 kg/m^3, E = 30 Pa, nu = 0.3, so G = 11.54 Pa; eta = 1 Pa s),
+5 ms, 28 steps at the viscous time step limit, interior 10 dx from the
+faces (c t = 1 mm, sqrt(eta t / rho) = 2.2 mm). For a constant strain rate
+D with trace 0 (no pressure)
+
+    sigma = 2 eta D + 2 G D t   (Newtonian part plus Hooke's, Jaumann terms
+                                 of order G (D t)^2, below 2e-4 Pa here)
+
+and the internal energy per mass, from the stress power sigma : D,
+
+    e = (2 eta D:D t + G D:D t^2) / rho0.
+
+Flows: simple shear v_x = y in plane strain (both formulations) and in
+3-D (sigma_xy = 1.0577 Pa, e = 5.1442e-6 J/kg), and in the axisymmetric
+form the isochoric expansion v_r = r, v_z = -2 z, whose hoop rate v_r / r
+carries a third of the dissipation (sigma_rr = sigma_hoop = 2.1154 Pa,
+sigma_zz = -4.2308 Pa, e = 6.1731e-5 J/kg). Tolerances: 1% of the largest
+stress component per component, 1% on the energy (measured: 0.3-0.5% and
+0.1-0.5%).
+
+Failed material's cavitation (materials[].cavitation_pressure): a block
+(rho0 = 1000, E = 3e4 Pa, nu = 0.3: K0 = 2.5e4 Pa, G = 1.15e4 Pa; yield
+100 Pa, failure at first yield) sheared and expanded, v = (10 x + 10 y,
+10 y) 1/s in plane strain, 1 ms: it fails at about 0.4 ms (the shear
+stress reaches the yield surface), and its pressure, -K0 div v t, passes
+-100 Pa at 0.2 ms. From failure on, a failed particle carries no
+deviatoric stress and no tension beyond p_cav: with p_cav = 100 Pa its
+pressure is -100 Pa and its density rho0 (1 - p_cav / K0) = 996 kg/m^3;
+with the default 0, pressure 0 and density rho0. Interior 10 dx from the
+faces (c t = 6.4 mm). Tolerances: stress 1% of p_cav, density 1e-4
+(measured: exact to float).
+"""
+import os
+import subprocess
+import sys
+
+import h5py
+import numpy as np
+
+DX = 1.0e-3  # m, every flow
+
+CASE = """name: {name}
+dimension: {dim}
+{plane}
+materials:
+  - name: block
+    density: 1000
+{material}
+bodies:
+  - name: block
+    material: block
+    min: {lo}
+    max: {hi}
+    velocity: {velocity}
+    velocity_gradient: {gradient}
+numerics:
+  dx: {dx}
+  formulation: {formulation}
+  h_over_dx: 1.2
+  artificial_viscosity: {{alpha: 0, beta: 0}}
+  xsph: 0
+  csph: true
+  end_time: {t}
+output:
+  snapshot_interval: {t}
+  history_interval: {t}
+"""
+
+RHO = 1000.0
+# the viscous solid
+E_SOFT, NU, ETA, T_VISCOUS = 30.0, 0.3, 1.0, 5.0e-3
+G_SOFT = E_SOFT / (2 * (1 + NU))
+VISCOUS = f"""    youngs_modulus: {E_SOFT}
+    poisson_ratio: {NU}
+    viscosity: {ETA}"""
+# the failing solid
+E_FAIL, YIELD, P_CAV, T_FAIL = 3.0e4, 100.0, 100.0, 1.0e-3
+K_FAIL = E_FAIL / (3 * (1 - 2 * NU))
+FAILING = f"""    youngs_modulus: {E_FAIL}
+    poisson_ratio: {NU}
+    strength: perfectly_plastic
+    yield_stress: {YIELD}
+    failure: yield"""
+
+
+def viscous(rate):
+    """Stress, energy and density of the viscous solid at a constant rate."""
+    d = np.array(rate, dtype=float)
+
+    def expect(time):
+        dd = np.sum(d * d)
+        return (2 * ETA * d + 2 * G_SOFT * d * time,
+                (2 * ETA * dd * time + G_SOFT * dd * time**2) / RHO, None)
+    return expect
+
+
+def cavitated(p_cav):
+    """The failed solid: no deviatoric stress, pressure -p_cav."""
+    def expect(time):
+        return np.eye(3) * p_cav, None, RHO * (1 - p_cav / K_FAIL)
+    return expect
+
+
+SHEAR = [0, 1, 0, 0, 0, 0, 0, 0, 0]
+SHEAR_RATE = [[0, 0.5, 0], [0.5, 0, 0], [0, 0, 0]]
+# name, dimension, plane line, box, velocity, gradient (row-major), material,
+# end time, formulation, expectation, stress scale (Pa) of the tolerance;
+# the snapshot's axes: x, y, z (axisymmetric: r, z, hoop)
+FLOWS = [
+    ("shear_plane_strain", 2, "plane: strain", [0, 0], [0.04, 0.04], [0, 0], SHEAR, VISCOUS,
+     T_VISCOUS, "updated_lagrangian", viscous(SHEAR_RATE), None),
+    ("shear_total_lagrangian", 2, "plane: strain", [0, 0], [0.04, 0.04], [0, 0], SHEAR,
+     VISCOUS, T_VISCOUS, "total_lagrangian", viscous(SHEAR_RATE), None),
+    ("shear_3d", 3, "", [0, 0, 0], [0.024, 0.024, 0.024], [0, 0, 0], SHEAR, VISCOUS,
+     T_VISCOUS, "updated_lagrangian", viscous(SHEAR_RATE), None),
+    # the gradient acts about the box centre (r = 0.02 m): the velocity
+    # puts the expansion's centre on the axis, v_r = r
+    ("expansion_axisymmetric", 2, "plane: axisymmetric", [0, -0.02], [0.04, 0.02], [0.02, 0],
+     [1, 0, 0, 0, -2, 0, 0, 0, 0], VISCOUS, T_VISCOUS, "updated_lagrangian",
+     viscous([[1, 0, 0], [0, -2, 0], [0, 0, 1]]), None),
+    ("failed_cavitation", 2, "plane: strain", [0, 0], [0.04, 0.04], [0, 0],
+     [10, 10, 0, 0, 10, 0, 0, 0, 0], FAILING + f"\n    cavitation_pressure: {P_CAV}", T_FAIL,
+     "updated_lagrangian", cavitated(P_CAV), P_CAV),
+    ("failed_no_tension", 2, "plane: strain", [0, 0], [0.04, 0.04], [0, 0],
+     [10, 10, 0, 0, 10, 0, 0, 0, 0], FAILING, T_FAIL, "updated_lagrangian", cavitated(0.0),
+     P_CAV),
+]
+
+# the snapshot's stress columns: XX, YY, ZZ, XY, YZ, XZ
+PAIRS = [(0, 0), (1, 1), (2, 2), (0, 1), (1, 2), (0, 2)]
+
+
+def run_flow(sph, work, flow):
+    """Runs one flow; returns (time, interior mask, snapshot arrays) or a failure."""
+    name, dim, plane, lo, hi, velocity, gradient, material, end, formulation = flow[:10]
+    folder = os.path.join(work, name)
+    os.makedirs(folder, exist_ok=True)
+    path = os.path.join(folder, "case.yaml")
+    with open(path, "w") as f:
+        f.write(CASE.format(name=name, dim=dim, plane=plane, material=material, lo=lo, hi=hi,
+                            velocity=velocity, gradient=gradient, dx=DX, t=end,
+                            formulation=formulation))
+    out = os.path.join(folder, "run")
+    proc = subprocess.run([sph, "run", path, "--out", out, "--quiet"], capture_output=True,
+                          text=True)
+    if proc.returncode != 0:
+        return f"{name}: sph exited {proc.returncode}: {proc.stderr.strip()}"
+    with h5py.File(os.path.join(out, "snap_00001.h5")) as snap:
+        time = float(snap.attrs["time_s"][0])
+        x0 = snap["position"][:] - snap["displacement"][:]
+        fields = {k: snap[k][:] for k in ("stress", "internal_energy", "density")}
+    inner = np.ones(len(x0), dtype=bool)
+    for a in range(dim):
+        inner &= (x0[:, a] > lo[a] + 10 * DX) & (x0[:, a] < hi[a] - 10 * DX)
+    return time, inner, fields
+
+
+def compare(name, what, got, want, scale, tolerance):
+    error = np.abs(got - want).max() / scale
+    print(f"{name}: {what} {got.min():.6g} to {got.max():.6g}, expected {want:.6g} "
+          f"(largest error {error:.2e} of {scale:.4g})")
+    return [] if error <= tolerance else [f"{name}: {what} off by {error:.3g} of {scale:.4g}"]
+
+
+def check_flow(sph, work, flow):
+    name, expect, stress_scale = flow[0], flow[10], flow[11]
+    result = run_flow(sph, work, flow)
+    if isinstance(result, str):
+        return [result]
+    time, inner, fields = result
+    sigma, energy, density = expect(time)
+    scale = stress_scale or np.abs(sigma).max()
+    print(f"{name}: t = {time:.4g} s, {inner.sum()} interior particles")
+    failures = []
+    for column, (a, b) in enumerate(PAIRS):
+        failures += compare(name, f"sigma_{a}{b} (Pa)", fields["stress"][inner, column],
+                            sigma[a, b], scale, 0.01)
+    if energy is not None:
+        failures += compare(name, "e (J/kg)", fields["internal_energy"][inner], energy, energy,
+                            0.01)
+    if density is not None:
+        failures += compare(name, "rho (kg/m^3)", fields["density"][inner], density, density,
+                            1e-4)
+    return failures
+
+
+def main():
+    if len(sys.argv) != 3:
+        sys.exit(__doc__)
+    sph, work = sys.argv[1], sys.argv[2]
+    failures = []
+    for flow in FLOWS:
+        failures += check_flow(sph, work, flow)
+    for failure in failures:
+        print("FAIL:", failure)
+    sys.exit(1 if failures else 0)
+
+
+if __name__ == "__main__":
+    main()
