@@ -977,10 +977,10 @@ static int check_reference(struct ctx *x, const struct frame *fr, void *base)
 static int check_numerics(struct ctx *x, const struct frame *fr, void *base)
 {
     const struct case_numerics *n = base;
-    if (n->total_lagrangian && n->av_scheme != SPH_AV_MONAGHAN)
+    if (n->total_lagrangian && n->av_scheme == SPH_AV_LIMITED)
         return fail(x, line_of(fr, "artificial_viscosity"), subkey(x, "artificial_viscosity"),
-                    "expected scheme monaghan with formulation total_lagrangian (the limited and "
-                    "switch schemes are built into the updated Lagrangian passes only)");
+                    "expected scheme monaghan or switch with formulation total_lagrangian (the "
+                    "limited scheme is built into the updated Lagrangian passes only)");
     if (n->av_scheme == SPH_AV_SWITCH && n->av_alpha_min > n->av_alpha)
         return fail(x, line_of(fr, "artificial_viscosity"), subkey(x, "artificial_viscosity"),
                     "expected alpha_min (%g) at most alpha (%g): with scheme switch alpha is "

@@ -179,10 +179,11 @@ static inline bool particle_failed(__constant const struct sph_material *m, real
         __global symt *restrict deviatoric_stress, __global real *restrict plastic_strain,         \
         __global real *restrict temperature, __global const real *restrict energy_rate,            \
         __global real *restrict pressure, __global real *restrict sound_speed,                     \
-        __global symt *restrict artificial_stress, __global symt *restrict viscous_stress
+        __global symt *restrict artificial_stress, __global symt *restrict viscous_stress,         \
+        __global real *restrict av_alpha
 #define MATERIAL_STATE                                                                             \
     density_change, energy, deviatoric_stress, plastic_strain, temperature, energy_rate, pressure, \
-        sound_speed, artificial_stress, viscous_stress
+        sound_speed, artificial_stress, viscous_stress, av_alpha
 
 #ifdef SPH_VISCOSITY
 /* The Newtonian viscous stress 2 eta D' (D' the deviatoric part of the
@@ -202,6 +203,28 @@ static inline void viscous_stress_of(__constant const struct sph_material *m, re
 #pragma unroll
         for (int b = 0; b < 3; ++b)
             sv[a][b] = (real)2 * m->viscosity * (d[a][b] - (a == b ? trace_third : (real)0));
+}
+#endif
+
+#ifdef SPH_AV_SWITCH
+/* The switch viscosity's alpha over the step (both formulations; div v
+ * the strain rate's trace, hoop rate included) (Morris & Monaghan 1997, J.
+ * Comput. Phys. 136:41, eq. 11 with the source of eq. 12): decay to
+ * alpha_min over tau = h / (0.2 c), growth towards alpha_max (the case's
+ * alpha) at the compression rate S = max(-div v, 0):
+ *   d alpha / dt = -(alpha - alpha_min) / tau + S (alpha_max - alpha),
+ * linear in alpha, so integrated exactly over dt (stable for any dt). The
+ * first update (solver_prime, dt = 0) lifts the zeroed buffer to alpha_min.
+ * h is the finest smoothing length: on a graded lattice the coarse shells
+ * decay faster than their own h would make them. */
+static inline real switch_alpha(real alpha, real divergence, real sound_speed, real dt,
+                                __constant const struct sph_run_params *run)
+{
+    const real decay = (real)0.2 * sound_speed / run->h, source = fmax(-divergence, (real)0);
+    const real rate = decay + source;
+    const real target = (decay * run->av_alpha_min + source * run->av_alpha) / rate;
+    const real next = target + (alpha - target) * exp(-rate * dt);
+    return clamp(next, run->av_alpha_min, fmax(run->av_alpha, run->av_alpha_min));
 }
 #endif
 
@@ -352,6 +375,11 @@ material_update_particle(int i, real l[3][3], real density_rate_i, real dt,
     const bool was_failed = (flags[i] & SPH_FLAG_DAMAGED) != 0;
     const real p_old = pressure[i];
     const real trace_d = d[0][0] + d[1][1] + d[2][2];
+#ifdef SPH_AV_SWITCH
+    av_alpha[i] = switch_alpha(av_alpha[i], trace_d, sound_speed[i], dt, run);
+#else
+    (void)av_alpha;
+#endif
 #ifdef SPH_VISCOSITY
     /* s is the elastic part below; the viscous part's two halves of the
      * stress power, S_v^n : d + S_v^(n+1) : d, are added to its own */
@@ -420,7 +448,8 @@ material_update_particle(int i, real l[3][3], real density_rate_i, real dt,
  * reads: velocity_gradient, density_rate, energy_rate, material, flags,
  *        pressure (p^n), pos and vel_half (axisymmetric hoop rate);
  * updates: density_change, energy, deviatoric_stress, plastic_strain,
- *          temperature, viscous_stress (SPH_VISCOSITY); writes: rho,
+ *          temperature, viscous_stress (SPH_VISCOSITY), av_alpha
+ *          (SPH_AV_SWITCH); writes: rho,
  *          pressure, artificial_stress. */
 __kernel void material_update(
     __global real *restrict rho, __global const fullt *restrict velocity_gradient,

@@ -19,42 +19,19 @@
  * reconstruction of the pair velocity jump (pass2.cl).
  *
  * reads: pos, vel_half, rho, mass, material, flags, energy_rate;
- * writes: csph, velocity_gradient (SPH_AV_LIMITED); updates: av_alpha
- * (SPH_AV_SWITCH) and the material state (MATERIAL_STATE_ARGS).
+ * writes: csph, velocity_gradient (SPH_AV_LIMITED); updates: the material
+ * state (MATERIAL_STATE_ARGS, the switch viscosity's av_alpha with it).
  */
-
-#ifdef SPH_AV_SWITCH
-/* The switch viscosity's alpha over the step (Morris & Monaghan 1997, J.
- * Comput. Phys. 136:41, eq. 11 with the source of eq. 12): decay to
- * alpha_min over tau = h / (0.2 c), growth towards alpha_max (the case's
- * alpha) at the compression rate S = max(-div v, 0):
- *   d alpha / dt = -(alpha - alpha_min) / tau + S (alpha_max - alpha),
- * linear in alpha, so integrated exactly over dt (stable for any dt). The
- * first update (solver_prime, dt = 0) lifts the zeroed buffer to alpha_min.
- * h is the finest smoothing length: on a graded lattice the coarse shells
- * decay faster than their own h would make them. */
-static inline real switch_alpha(real alpha, real divergence, real sound_speed, real dt,
-                                __constant const struct sph_run_params *run)
-{
-    const real decay = (real)0.2 * sound_speed / run->h, source = fmax(-divergence, (real)0);
-    const real rate = decay + source;
-    const real target = (decay * run->av_alpha_min + source * run->av_alpha) / rate;
-    const real next = target + (alpha - target) * exp(-rate * dt);
-    return clamp(next, run->av_alpha_min, fmax(run->av_alpha, run->av_alpha_min));
-}
-#endif
 
 /* What pass 1 does with particle i's sums, lane by lane:
  * the CSPH correction C_i = B_i^-1 (symmetric, since grad W_ij is along
  * x_ij) applied to L_i, the density rate, and the material update. */
-static inline void
-pass1_finish(int i, real grad_v[3][3], real moment[3][3], __global const real *restrict rho,
-             __global const int *restrict material, __global const int *restrict flags,
-             __constant const struct sph_material *materials,
-             __constant const struct sph_run_params *run, __global symt *restrict csph,
-             __global fullt *restrict velocity_gradient, __global real *restrict av_alpha,
-             const real dt, __global const vec *restrict pos, __global const vec *restrict vel,
-             MATERIAL_STATE_ARGS)
+static inline void pass1_finish(
+    int i, real grad_v[3][3], real moment[3][3], __global const real *restrict rho,
+    __global const int *restrict material, __global const int *restrict flags,
+    __constant const struct sph_material *materials, __constant const struct sph_run_params *run,
+    __global symt *restrict csph, __global fullt *restrict velocity_gradient, const real dt,
+    __global const vec *restrict pos, __global const vec *restrict vel, MATERIAL_STATE_ARGS)
 {
 #ifndef SPH_CSPH
     (void)moment;
@@ -84,24 +61,20 @@ pass1_finish(int i, real grad_v[3][3], real moment[3][3], __global const real *r
     /* sigma_zz = 0 needs eps_zz rate = -nu/(1-nu) (eps_xx + eps_yy) (Hooke) */
     divergence *= (real)1 - materials[material[i]].plane_stress_nu;
 #endif
-#ifdef SPH_AV_SWITCH
-    av_alpha[i] = switch_alpha(av_alpha[i], divergence, sound_speed[i], dt, run);
-#else
-    (void)av_alpha;
-#endif
     material_update_particle(i, grad_v, -rho[i] * divergence, dt, rho, material, flags, pos, vel,
                              materials, run, MATERIAL_STATE);
 }
 
 /* What it reads and writes: the header above. One work-item per lane block
  * (kernels/lanes.cl). */
-__kernel void pass1_velocity_gradient(
-    __global const vec *restrict pos, __global const vec *restrict vel_half,
-    __global const real *restrict rho, __global const real *restrict mass,
-    __global const int *restrict material, __global const int *restrict flags, GRID_ARGS,
-    __constant const struct sph_material *materials, __constant const struct sph_run_params *run,
-    __global symt *restrict csph, __global fullt *restrict velocity_gradient,
-    __global real *restrict av_alpha, const real dt, MATERIAL_STATE_ARGS, const int n)
+__kernel void
+pass1_velocity_gradient(__global const vec *restrict pos, __global const vec *restrict vel_half,
+                        __global const real *restrict rho, __global const real *restrict mass,
+                        __global const int *restrict material, __global const int *restrict flags,
+                        GRID_ARGS, __constant const struct sph_material *materials,
+                        __constant const struct sph_run_params *run, __global symt *restrict csph,
+                        __global fullt *restrict velocity_gradient, const real dt,
+                        MATERIAL_STATE_ARGS, const int n)
 {
     struct lane_block b;
     if (!lane_block_setup(&b, flags, sort_keys, grid_dims, n))
@@ -145,6 +118,6 @@ __kernel void pass1_velocity_gradient(
         tensor_lane(grad_v, l, gv);
         tensor_lane(moment, l, m);
         pass1_finish(b.first + l, gv, m, rho, material, flags, materials, run, csph,
-                     velocity_gradient, av_alpha, dt, pos, vel_half, MATERIAL_STATE);
+                     velocity_gradient, dt, pos, vel_half, MATERIAL_STATE);
     }
 }

@@ -236,20 +236,24 @@ static inline vec tl_pair_hourglass(const real f_i[3][3], fullt f_j, vec xij, ve
 /* Pass 2 of the total Lagrangian form: stress force, artificial viscosity
  * (on the current pair geometry, as in the updated form), hourglass control,
  * XSPH. reads: pos, pos0, vel, rho, mass, first_piola, deformation_gradient,
- * sound_speed, material; writes: acceleration, energy_rate, viscous_heating
+ * sound_speed, material, av_alpha (SPH_AV_SWITCH: the pair's alpha is the
+ * mean of the particles', beta in the case's ratio to it, as in pass 2);
+ * writes: acceleration, energy_rate, viscous_heating
  * (the viscosity's part of energy_rate), hourglass_power (W/kg: the work
  * the hourglass forces take out of the motion, -1/2 sum_j v_ij . a_hg,ij,
  * which is not heat and is kept apart for the energy ledger), xsph_velocity. */
-__kernel void tl_momentum(
-    __global const vec *restrict pos, __global const vec *restrict pos0,
-    __global const vec *restrict vel, __global const real *restrict rho,
-    __global const real *restrict mass, __global const fullt *restrict first_piola,
-    __global const fullt *restrict deformation_gradient, __global const real *restrict sound_speed,
-    __global const int *restrict material, __global const int *restrict flags, GRID_ARGS,
-    __constant const struct sph_material *materials, __constant const struct sph_run_params *run,
-    __global vec *restrict acceleration, __global real *restrict energy_rate,
-    __global real *restrict viscous_heating, __global real *restrict hourglass_power,
-    __global vec *restrict xsph_velocity, const int n)
+__kernel void
+tl_momentum(__global const vec *restrict pos, __global const vec *restrict pos0,
+            __global const vec *restrict vel, __global const real *restrict rho,
+            __global const real *restrict mass, __global const fullt *restrict first_piola,
+            __global const fullt *restrict deformation_gradient,
+            __global const real *restrict sound_speed, __global const int *restrict material,
+            __global const int *restrict flags, __global const real *restrict av_alpha, GRID_ARGS,
+            __constant const struct sph_material *materials,
+            __constant const struct sph_run_params *run, __global vec *restrict acceleration,
+            __global real *restrict energy_rate, __global real *restrict viscous_heating,
+            __global real *restrict hourglass_power, __global vec *restrict xsph_velocity,
+            const int n)
 {
     const int i = get_global_id(0);
     if (i >= n || (flags[i] & SPH_FLAG_GHOST))
@@ -292,9 +296,17 @@ __kernel void tl_momentum(
             const real r2 = dot(xij, xij);
             if (r2 < support2 && r2 > 0) {
                 const real q = sqrt(r2) * inv_h, inv_rho_mean = (real)2 / (rho[i] + rho[j]);
+#ifdef SPH_AV_SWITCH
+                const real alpha_ij = (real)0.5 * (av_alpha[i] + av_alpha[j]);
+                const real beta_ij =
+                    run->av_alpha > 0 ? run->av_beta / run->av_alpha * alpha_ij : (real)0;
+#else
+                (void)av_alpha;
+                const real alpha_ij = run->av_alpha, beta_ij = run->av_beta;
+#endif
                 const real pi_ij = artificial_viscosity(
                     dot(vij, xij), r2, h, (real)0.5 * (sound_speed[i] + sound_speed[j]),
-                    inv_rho_mean, run->av_alpha, run->av_beta);
+                    inv_rho_mean, alpha_ij, beta_ij);
                 const vec visc = (-mass[j] * pi_ij * kernel_dwdr_over_r_q(q, inv_h)) * xij;
                 acc_extra += visc;
                 de -= (real)0.5 * dot(vij, visc);
