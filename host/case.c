@@ -115,7 +115,8 @@ static const char *const precision_names[] = {"float", "double", NULL};
 static const char *const as_weight_names[] = {"relative", "lattice", NULL};
 static const char *const neighbour_loop_names[] = {"lanes", "plain", "auto", NULL};
 static const char *const formulation_names[] = {"updated_lagrangian", "total_lagrangian", NULL};
-static const char *const av_scheme_names[] = {"monaghan", "limited", "switch", NULL};
+static const char *const av_scheme_names[] = {"monaghan", "limited", "switch", "cullen_dehnen",
+                                              NULL};
 static const char *const motion_names[] = {"free", "prescribed", NULL};
 static const char *const ref_nouns[] = {"material", "body", "group"};
 
@@ -981,7 +982,8 @@ static int check_numerics(struct ctx *x, const struct frame *fr, void *base)
         return fail(x, line_of(fr, "artificial_viscosity"), subkey(x, "artificial_viscosity"),
                     "expected scheme monaghan or switch with formulation total_lagrangian (the "
                     "limited scheme is built into the updated Lagrangian passes only)");
-    if (n->av_scheme == SPH_AV_SWITCH && n->av_alpha_min > n->av_alpha)
+    if ((n->av_scheme == SPH_AV_SWITCH || n->av_scheme == SPH_AV_CULLEN_DEHNEN) &&
+        n->av_alpha_min > n->av_alpha)
         return fail(x, line_of(fr, "artificial_viscosity"), subkey(x, "artificial_viscosity"),
                     "expected alpha_min (%g) at most alpha (%g): with scheme switch alpha is "
                     "the largest value the switch reaches",

@@ -59,6 +59,9 @@ const struct field_info field_table[FIELD_COUNT] = {
                                  TL | USED_AV_LIMITED, USED_AV_LIMITED, MIRROR_REFLECT, NULL},
     [FIELD_AV_ALPHA] = {"artificial_viscosity_alpha", "av_alpha", ELEM_REAL, 1, USED_AV_SWITCH,
                         USED_AV_SWITCH, MIRROR_COPY, "1"},
+    /* d(div v)/dt, Cullen & Dehnen's shock indicator, from two steps */
+    [FIELD_AV_DIVERGENCE] = {"velocity_divergence", "av_divergence", ELEM_REAL, 1,
+                             USED_AV_CULLEN_DEHNEN, 0, MIRROR_NONE, NULL},
     /* kept apart so that the elastic part integrates on its own
      * (kernels/material.cl); pass 2 reads only the sum, deviatoric_stress */
     [FIELD_VISCOUS_STRESS] = {"viscous_stress", "viscous_stress", ELEM_SYMT, 1, USED_VISCOSITY, 0,
@@ -85,7 +88,9 @@ unsigned solver_configuration(const struct solver *s)
 {
     return USED_ALWAYS | (s->total_lagrangian ? USED_TOTAL_LAGRANGIAN : 0u) |
            (s->csph ? USED_CSPH : 0u) | (s->av_scheme == SPH_AV_LIMITED ? USED_AV_LIMITED : 0u) |
-           (s->av_scheme == SPH_AV_SWITCH ? USED_AV_SWITCH : 0u) |
+           (s->av_scheme == SPH_AV_SWITCH || s->av_scheme == SPH_AV_CULLEN_DEHNEN ? USED_AV_SWITCH
+                                                                                  : 0u) |
+           (s->av_scheme == SPH_AV_CULLEN_DEHNEN ? USED_AV_CULLEN_DEHNEN : 0u) |
            (s->artificial_stress ? USED_ARTIFICIAL_STRESS : 0u) |
            (s->wall_count > 0 ? USED_WALLS : 0u) | (s->viscosity ? USED_VISCOSITY : 0u);
 }

@@ -50,6 +50,7 @@ enum field {
     FIELD_FIRST_PIOLA,          /* total Lagrangian only: P C^T */
     FIELD_VELOCITY_GRADIENT,    /* total Lagrangian, or the limited viscosity (pass 1 -> pass 2) */
     FIELD_AV_ALPHA,             /* the switch viscosity's alpha per particle */
+    FIELD_AV_DIVERGENCE,        /* cullen_dehnen: the last step's div v, 1/s */
     FIELD_VISCOUS_STRESS,       /* the physical viscosity's part of deviatoric_stress */
     FIELD_DENSITY_RATE,
     FIELD_ACCELERATION,
@@ -75,6 +76,7 @@ enum field_use {
     USED_ARTIFICIAL_STRESS = 1 << 5,
     USED_WALLS = 1 << 6,
     USED_VISCOSITY = 1 << 7,
+    USED_AV_CULLEN_DEHNEN = 1 << 8,
 };
 
 struct field_info {

@@ -77,9 +77,10 @@ void solver_build_options(const struct sph_case *c, char *options, size_t size)
                                       : " -DSPH_ARTIFICIAL_STRESS")
             : "",
         num->xsph_epsilon > 0 ? " -DSPH_XSPH" : "", plastic ? " -DSPH_PLASTICITY" : "",
-        num->av_scheme == SPH_AV_LIMITED  ? " -DSPH_AV_LIMITED"
-        : num->av_scheme == SPH_AV_SWITCH ? " -DSPH_AV_SWITCH"
-                                          : "",
+        num->av_scheme == SPH_AV_LIMITED         ? " -DSPH_AV_LIMITED"
+        : num->av_scheme == SPH_AV_SWITCH        ? " -DSPH_AV_SWITCH"
+        : num->av_scheme == SPH_AV_CULLEN_DEHNEN ? " -DSPH_AV_SWITCH -DSPH_AV_CULLEN_DEHNEN"
+                                                 : "",
         num->double_precision ? " -DSPH_DOUBLE" : "",
         num->total_lagrangian ? " -DSPH_TOTAL_LAGRANGIAN" : "",
         case_has_viscosity(c) ? " -DSPH_VISCOSITY" : "");

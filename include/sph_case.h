@@ -152,9 +152,10 @@ struct case_group {
 
 /* numerics.artificial_viscosity.scheme */
 enum sph_av_scheme {
-    SPH_AV_MONAGHAN = 0, /* the pair's velocity difference (Monaghan 1992) */
-    SPH_AV_LIMITED = 1,  /* the limited linear reconstruction of the jump (pass2.cl) */
-    SPH_AV_SWITCH = 2    /* per-particle alpha driven by compression (pass1.cl) */
+    SPH_AV_MONAGHAN = 0,     /* the pair's velocity difference (Monaghan 1992) */
+    SPH_AV_LIMITED = 1,      /* the limited linear reconstruction of the jump (pass2.cl) */
+    SPH_AV_SWITCH = 2,       /* per-particle alpha driven by compression (material.cl) */
+    SPH_AV_CULLEN_DEHNEN = 3 /* per-particle alpha driven by the rate of compression */
 };
 
 struct case_numerics {

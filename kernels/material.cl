@@ -180,10 +180,10 @@ static inline bool particle_failed(__constant const struct sph_material *m, real
         __global real *restrict temperature, __global const real *restrict energy_rate,            \
         __global real *restrict pressure, __global real *restrict sound_speed,                     \
         __global symt *restrict artificial_stress, __global symt *restrict viscous_stress,         \
-        __global real *restrict av_alpha
+        __global real *restrict av_alpha, __global real *restrict av_divergence
 #define MATERIAL_STATE                                                                             \
     density_change, energy, deviatoric_stress, plastic_strain, temperature, energy_rate, pressure, \
-        sound_speed, artificial_stress, viscous_stress, av_alpha
+        sound_speed, artificial_stress, viscous_stress, av_alpha, av_divergence
 
 #ifdef SPH_VISCOSITY
 /* The Newtonian viscous stress 2 eta D' (D' the deviatoric part of the
@@ -225,6 +225,42 @@ static inline real switch_alpha(real alpha, real divergence, real sound_speed, r
     const real target = (decay * run->av_alpha_min + source * run->av_alpha) / rate;
     const real next = target + (alpha - target) * exp(-rate * dt);
     return clamp(next, run->av_alpha_min, fmax(run->av_alpha, run->av_alpha_min));
+}
+#endif
+
+#ifdef SPH_AV_CULLEN_DEHNEN
+/* Cullen & Dehnen's indicator (2010, MNRAS 408:669, eqs. 13-16): alpha
+ * follows the rate at which compression grows, A = xi max(-d(div v)/dt, 0),
+ * so it rises ahead of a shock and stays low in steady compression (where
+ * the Morris-Monaghan source, -div v itself, keeps it up):
+ *   alpha_loc = alpha_max h^2 A / (c^2 + h^2 A),
+ * alpha jumps up to alpha_loc and otherwise decays to it at the switch's
+ * rate 0.2 c / h, never below alpha_min. d(div v)/dt is taken from two
+ * successive steps' div v (av_divergence); xi = (div v)^2 / ((div v)^2 +
+ * S':S'), S' the traceless strain rate (Balsara's form of their limiter,
+ * without the neighbour sign sum), keeps it off in shear. c is the
+ * particle's own sound speed, h the finest smoothing length. */
+static inline real cullen_dehnen_alpha(real alpha, real divergence, real d[3][3],
+                                       __global real *previous_divergence, real sound_speed,
+                                       real dt, __constant const struct sph_run_params *run)
+{
+    const real rate = dt > 0 ? (divergence - *previous_divergence) / dt : (real)0;
+    *previous_divergence = divergence;
+    real shear2 = 0;
+#pragma unroll
+    for (int a = 0; a < 3; ++a)
+#pragma unroll
+        for (int b = 0; b < 3; ++b) {
+            const real s = d[a][b] - (a == b ? divergence / (real)3 : (real)0);
+            shear2 += s * s;
+        }
+    const real div2 = divergence * divergence;
+    const real xi = div2 / (div2 + shear2 + (real)1e-30);
+    const real h2a = run->h * run->h * xi * fmax(-rate, (real)0);
+    const real alpha_local = run->av_alpha * h2a / (sound_speed * sound_speed + h2a);
+    const real decayed =
+        alpha_local + (alpha - alpha_local) * exp((real)-0.2 * sound_speed / run->h * dt);
+    return fmax(alpha < alpha_local ? alpha_local : decayed, run->av_alpha_min);
 }
 #endif
 
@@ -375,10 +411,15 @@ material_update_particle(int i, real l[3][3], real density_rate_i, real dt,
     const bool was_failed = (flags[i] & SPH_FLAG_DAMAGED) != 0;
     const real p_old = pressure[i];
     const real trace_d = d[0][0] + d[1][1] + d[2][2];
-#ifdef SPH_AV_SWITCH
+#if defined(SPH_AV_CULLEN_DEHNEN)
+    av_alpha[i] =
+        cullen_dehnen_alpha(av_alpha[i], trace_d, d, &av_divergence[i], sound_speed[i], dt, run);
+#elif defined(SPH_AV_SWITCH)
     av_alpha[i] = switch_alpha(av_alpha[i], trace_d, sound_speed[i], dt, run);
+    (void)av_divergence;
 #else
     (void)av_alpha;
+    (void)av_divergence;
 #endif
 #ifdef SPH_VISCOSITY
     /* s is the elastic part below; the viscous part's two halves of the
