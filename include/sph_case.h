@@ -277,7 +277,8 @@ double case_material_sound_speed(const struct case_material *m);
 int case_has_viscosity(const struct sph_case *c);
 /* The explicit time step's limit from the physical viscosity for a smoothing
  * length h (m): 0.125 h^2 min(rho0 / eta) (Morris, Fox & Zhu 1997, J.
- * Comput. Phys. 136:214, eq. 5.1), s; HUGE_VAL without viscosity. */
+ * Comput. Phys. 136:214, their viscous step limit), s; HUGE_VAL without
+ * viscosity. */
 double case_viscous_time_step(const struct sph_case *c, double h);
 /* The fastest initial body speed (and the projectile's, with_projectile),
  * m/s. */

@@ -229,7 +229,7 @@ static inline real switch_alpha(real alpha, real divergence, real sound_speed, r
 #endif
 
 #ifdef SPH_AV_CULLEN_DEHNEN
-/* Cullen & Dehnen's indicator (2010, MNRAS 408:669, eqs. 13-16): alpha
+/* Cullen & Dehnen's indicator (2010, MNRAS 408:669, section 3): alpha
  * follows the rate at which compression grows, A = xi max(-d(div v)/dt, 0),
  * so it rises ahead of a shock and stays low in steady compression (where
  * the Morris-Monaghan source, -div v itself, keeps it up):
