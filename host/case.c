@@ -1183,6 +1183,8 @@ static const struct field material_fields[] = {
     NUMBER("viscosity", struct case_material, viscosity, 0, R_NONNEG, 0, 0, 0, "Pa s"),
     NUMBER("cavitation_pressure", struct case_material, cavitation_pressure, 0, R_NONNEG, 0, 0, 0,
            "Pa"),
+    NUMBER("failure_stretch", struct case_material, failure_stretch, F_OMIT_ZERO, R_POSITIVE, 0, 0,
+           0, NULL),
 };
 
 static const struct field grading_fields[] = {

@@ -59,8 +59,9 @@ void solver_build_options(const struct sph_case *c, char *options, size_t size)
 {
     const struct case_numerics *num = &c->numerics;
     int plastic = 0;
-    for (int m = 0; m < c->material_count; ++m)
-        plastic |= c->materials[m].strength != SPH_STRENGTH_ELASTIC;
+    for (int m = 0; m < c->material_count; ++m) /* plasticity or any failure */
+        plastic |=
+            c->materials[m].strength != SPH_STRENGTH_ELASTIC || c->materials[m].failure_stretch > 0;
     /* -w: PoCL's compiler prints ABI notes (-Wpsabi) about float8/float16
      * arguments on every first build; the sources are kept free of real
      * warnings with clang -x cl -fsyntax-only -Wall (docs/ARCHITECTURE.md) */
@@ -259,6 +260,7 @@ static struct material_double material_entry(const struct case_material *cm)
                                                           : cm->failure_strain;
     m.viscosity = cm->viscosity;
     m.cavitation_pressure = cm->cavitation_pressure;
+    m.failure_stretch = cm->failure_stretch;
     m.eos = cm->eos;
     m.strength = cm->strength;
     return m;

@@ -78,6 +78,7 @@ struct case_material {
     double failure_strain;      /* required with failure plastic_strain */
     double viscosity;           /* Pa s, Newtonian shear viscosity, default 0 (none) */
     double cavitation_pressure; /* Pa, tension a failed particle carries, default 0 */
+    double failure_stretch;     /* rho0/rho - 1 at which a particle fails, default 0 (never) */
 };
 
 /* A region: an axis-aligned box [min, max] (m). In 2-D the z entries are 0. */

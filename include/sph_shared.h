@@ -133,13 +133,15 @@ enum sph_contact_slot {
  *                      stress carries 2 eta D' on top of the elastic part
  *                      (kernels/material.cl); 0: none
  *   cavitation_pressure  the most tension a failed particle carries, Pa
- *                      (kernels/material.cl, failed_pressure) */
+ *                      (kernels/material.cl, failed_pressure)
+ *   failure_stretch    volumetric stretch rho0/rho - 1 past which a particle
+ *                      fails whatever its plastic strain; 0: never */
 /* clang-format off */
 #define SPH_MATERIAL_REALS(X)                                                                      \
     X(density) X(bulk_modulus) X(shear_modulus) X(sound_speed) X(yield_stress) X(hardening_b)     \
     X(hardening_n) X(plane_stress_nu) X(eos_c0) X(eos_s) X(eos_gamma0) X(eos_p0) X(jc_rate_c)     \
     X(jc_reference_rate) X(jc_thermal_m) X(melt_temperature) X(room_temperature)                  \
-    X(heat_capacity) X(taylor_quinney) X(failure_strain) X(viscosity) X(cavitation_pressure)
+    X(heat_capacity) X(taylor_quinney) X(failure_strain) X(viscosity) X(cavitation_pressure) X(failure_stretch)
 /* clang-format on */
 #define SPH_DECLARE_REAL(name) real name;
 struct sph_material {

@@ -117,7 +117,7 @@ __kernel void integrate_drift(__global vec *restrict pos, __global vec *restrict
         return;
     __constant const struct sph_material *m = &materials[material[i]];
     rho[i] = m->density + density_change[i];
-    if (particle_failed(m, plastic_strain[i]))
+    if (particle_failed(m, plastic_strain[i], density_change[i]))
         flags[i] |= SPH_FLAG_DAMAGED;
     if (flags[i] & SPH_FLAG_FIXED)
         return;

@@ -161,13 +161,20 @@ static inline void plastic_correction(__constant const struct sph_material *m, r
 /* Failure (thesis 4.3.2): past the material's plastic strain (0: at first
  * yield; negative: never) the particle keeps only its pressure, and no
  * tension. */
-static inline bool particle_failed(__constant const struct sph_material *m, real plastic_strain)
+static inline bool particle_failed(__constant const struct sph_material *m, real plastic_strain,
+                                   real density_change)
 {
 #ifdef SPH_PLASTICITY
-    return m->failure_strain >= 0 && plastic_strain > m->failure_strain;
+    /* the critical stretch: rho0 / rho - 1 above failure_stretch, i.e. a
+     * density change below -rho0 s / (1 + s) */
+    const bool stretched =
+        m->failure_stretch > 0 &&
+        density_change < -m->density * m->failure_stretch / ((real)1 + m->failure_stretch);
+    return stretched || (m->failure_strain >= 0 && plastic_strain > m->failure_strain);
 #else
     (void)m;
     (void)plastic_strain;
+    (void)density_change;
     return false;
 #endif
 }
@@ -337,7 +344,7 @@ static inline void store_stress(__constant const struct sph_material *m, real s[
                                 __global symt *artificial_stress_i)
 {
 #ifdef SPH_PLASTICITY
-    const bool failed = was_failed || particle_failed(m, *plastic_strain_i);
+    const bool failed = was_failed || particle_failed(m, *plastic_strain_i, density - m->density);
     if (failed) {
 #pragma unroll
         for (int a = 0; a < 3; ++a)

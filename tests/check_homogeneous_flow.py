@@ -41,6 +41,13 @@ pressure is -100 Pa and its density rho0 (1 - p_cav / K0) = 996 kg/m^3;
 with the default 0, pressure 0 and density rho0. Interior 10 dx from the
 faces (c t = 6.4 mm). Tolerances: stress 1% of p_cav, density 1e-4
 (measured: exact to float).
+
+Failure by stretch (materials[].failure_stretch): the same solid with a
+yield stress it never reaches (1 MPa) and a critical stretch of 1%,
+expanded v = (10 x, 10 y) 1/s: rho0 / rho - 1 = exp(20 t) - 1 passes 1% at
+0.50 ms (the tension then -K0 ln 1.01 = -249 Pa, the deviatoric stress 77
+Pa); from then on the particle is failed: no stress, density rho0, where
+an intact one would carry -500 Pa at 1 ms.
 """
 import os
 import subprocess
@@ -93,6 +100,12 @@ FAILING = f"""    youngs_modulus: {E_FAIL}
     strength: perfectly_plastic
     yield_stress: {YIELD}
     failure: yield"""
+# the same solid that never yields but fails at 1% volumetric stretch
+STRETCHING = f"""    youngs_modulus: {E_FAIL}
+    poisson_ratio: {NU}
+    strength: perfectly_plastic
+    yield_stress: 1.0e6
+    failure_stretch: 0.01"""
 
 
 def viscous(rate):
@@ -135,6 +148,10 @@ FLOWS = [
      "updated_lagrangian", cavitated(P_CAV), P_CAV),
     ("failed_no_tension", 2, "plane: strain", [0, 0], [0.04, 0.04], [0, 0],
      [10, 10, 0, 0, 10, 0, 0, 0, 0], FAILING, T_FAIL, "updated_lagrangian", cavitated(0.0),
+     P_CAV),
+    # no shear, and a yield stress it never reaches: only the stretch fails it
+    ("failed_by_stretch", 2, "plane: strain", [0, 0], [0.04, 0.04], [0, 0],
+     [10, 0, 0, 0, 10, 0, 0, 0, 0], STRETCHING, T_FAIL, "updated_lagrangian", cavitated(0.0),
      P_CAV),
 ]
 
