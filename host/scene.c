@@ -246,9 +246,12 @@ static double signal_speed(const struct sph_case *c)
 
 /* Steps to end_time at the first step's time step: a lower bound (the step
  * shrinks as material compresses). */
+/* The run's steps at its first time step: CFL, or the physical
+ * viscosity's limit where that is smaller (solver_time_step). */
 static double step_estimate(const struct sph_case *c)
 {
-    const double dt = c->numerics.cfl * c->numerics.h_over_dx * c->numerics.dx / signal_speed(c);
+    const double h = c->numerics.h_over_dx * c->numerics.dx;
+    const double dt = fmin(c->numerics.cfl * h / signal_speed(c), case_viscous_time_step(c, h));
     return c->numerics.end_time / dt;
 }
 
@@ -286,8 +289,9 @@ int scene_estimate(const struct sph_case *c, double *points, char *error, size_t
     if (!(steps <= MAX_STEPS))
         return snprintf(error, error_size,
                         "%s: numerics.end_time = %g s takes about %.3g steps of %.3g s (CFL "
-                        "%g, h = %g m, signal speed %.4g m/s); the limit is %.0e steps: check "
-                        "end_time's units or use a shorter one",
+                        "%g, h = %g m, signal speed %.4g m/s, or the viscous limit 0.125 h^2 "
+                        "rho0 / eta); the limit is %.0e steps: check end_time's units or use a "
+                        "shorter one",
                         c->path, c->numerics.end_time, steps, c->numerics.end_time / steps,
                         c->numerics.cfl, c->numerics.h_over_dx * c->numerics.dx, signal_speed(c),
                         MAX_STEPS) > 0;
