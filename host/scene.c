@@ -92,11 +92,12 @@ struct fill_context {
 static void initial_velocity(const struct case_body *body, const double x[3], double *v)
 {
     for (int a = 0; a < 3; ++a) {
+        v[a] = 0.0;
+        if (body->fixed)
+            continue;
         v[a] = body->velocity[a];
         for (int b = 0; b < 3; ++b)
             v[a] += body->velocity_gradient[3 * a + b] * (x[b] - body->centre[b]);
-        if (body->fixed)
-            v[a] = 0.0;
     }
 }
 

@@ -116,9 +116,8 @@ static inline void artificial_stress_tensor(real sigma[3][3], real density, real
 }
 #endif
 
-#ifdef SPH_PLASTICITY
-/* Equivalent strain rate sqrt(2/3 D':D'), 1/s: the rate in Johnson-Cook. */
-static inline real equivalent_strain_rate(real d[3][3])
+/* D':D', D' the deviatoric part of the strain rate d, 1/s^2. */
+static inline real deviatoric_rate_squared(real d[3][3])
 {
     const real trace_third = (d[0][0] + d[1][1] + d[2][2]) / (real)3;
     real sum = 0;
@@ -129,7 +128,14 @@ static inline real equivalent_strain_rate(real d[3][3])
             const real dev = d[a][b] - (a == b ? trace_third : (real)0);
             sum += dev * dev;
         }
-    return sqrt((real)2 / (real)3 * sum);
+    return sum;
+}
+
+#ifdef SPH_PLASTICITY
+/* Equivalent strain rate sqrt(2/3 D':D'), 1/s: the rate in Johnson-Cook. */
+static inline real equivalent_strain_rate(real d[3][3])
+{
+    return sqrt((real)2 / (real)3 * deviatoric_rate_squared(d));
 }
 
 /* Plastic correction of the trial deviatoric stress s (radial return to
@@ -224,10 +230,15 @@ static inline void viscous_stress_of(__constant const struct sph_material *m, re
  * first update (solver_prime, dt = 0) lifts the zeroed buffer to alpha_min.
  * h is the finest smoothing length: on a graded lattice the coarse shells
  * decay faster than their own h would make them. */
+static inline real switch_decay_rate(real sound_speed, __constant const struct sph_run_params *run)
+{
+    return (real)0.2 * sound_speed / run->h;
+}
+
 static inline real switch_alpha(real alpha, real divergence, real sound_speed, real dt,
                                 __constant const struct sph_run_params *run)
 {
-    const real decay = (real)0.2 * sound_speed / run->h, source = fmax(-divergence, (real)0);
+    const real decay = switch_decay_rate(sound_speed, run), source = fmax(-divergence, (real)0);
     const real rate = decay + source;
     const real target = (decay * run->av_alpha_min + source * run->av_alpha) / rate;
     const real next = target + (alpha - target) * exp(-rate * dt);
@@ -253,20 +264,12 @@ static inline real cullen_dehnen_alpha(real alpha, real divergence, real d[3][3]
 {
     const real rate = dt > 0 ? (divergence - *previous_divergence) / dt : (real)0;
     *previous_divergence = divergence;
-    real shear2 = 0;
-#pragma unroll
-    for (int a = 0; a < 3; ++a)
-#pragma unroll
-        for (int b = 0; b < 3; ++b) {
-            const real s = d[a][b] - (a == b ? divergence / (real)3 : (real)0);
-            shear2 += s * s;
-        }
     const real div2 = divergence * divergence;
-    const real xi = div2 / (div2 + shear2 + (real)1e-30);
+    const real xi = div2 / (div2 + deviatoric_rate_squared(d) + (real)1e-30);
     const real h2a = run->h * run->h * xi * fmax(-rate, (real)0);
     const real alpha_local = run->av_alpha * h2a / (sound_speed * sound_speed + h2a);
     const real decayed =
-        alpha_local + (alpha - alpha_local) * exp((real)-0.2 * sound_speed / run->h * dt);
+        alpha_local + (alpha - alpha_local) * exp(-switch_decay_rate(sound_speed, run) * dt);
     return fmax(alpha < alpha_local ? alpha_local : decayed, run->av_alpha_min);
 }
 #endif
@@ -338,8 +341,7 @@ static inline real failed_density_change_floor(__constant const struct sph_mater
 static inline void store_stress(__constant const struct sph_material *m, real s[3][3], real p,
                                 real density, bool was_failed,
                                 __constant const struct sph_run_params *run,
-                                __global const real *plastic_strain_i,
-                                __global const symt *viscous_stress_i,
+                                __global const real *plastic_strain_i, real sv[3][3],
                                 __global symt *deviatoric_stress_i, __global real *pressure_i,
                                 __global symt *artificial_stress_i)
 {
@@ -360,15 +362,13 @@ static inline void store_stress(__constant const struct sph_material *m, real s[
     *pressure_i = p;
 #endif
 #ifdef SPH_VISCOSITY
-    real sv[3][3];
-    symt_load(*viscous_stress_i, sv);
 #pragma unroll
     for (int a = 0; a < 3; ++a)
 #pragma unroll
         for (int b = 0; b < 3; ++b)
             s[a][b] += sv[a][b];
 #else
-    (void)viscous_stress_i;
+    (void)sv; /* not set without viscosity */
 #endif
     *deviatoric_stress_i = symt_store(s);
 #ifdef SPH_ARTIFICIAL_STRESS
@@ -428,10 +428,10 @@ material_update_particle(int i, real l[3][3], real density_rate_i, real dt,
     (void)av_alpha;
     (void)av_divergence;
 #endif
+    real sv[3][3];
 #ifdef SPH_VISCOSITY
     /* s is the elastic part below; the viscous part's two halves of the
      * stress power, S_v^n : d + S_v^(n+1) : d, are added to its own */
-    real sv[3][3];
     symt_load(viscous_stress[i], sv);
     real power_viscous = 0;
 #pragma unroll
@@ -486,8 +486,8 @@ material_update_particle(int i, real l[3][3], real density_rate_i, real dt,
     /* the artificial viscosity and the time step follow the stiffening of
      * compressed material (Monaghan 1992: c_i is particle i's own speed) */
     sound_speed[i] = sound_speed_current(m, density, e);
-    store_stress(m, s, p, density, was_failed, run, &plastic_strain[i], &viscous_stress[i],
-                 &deviatoric_stress[i], &pressure[i], &artificial_stress[i]);
+    store_stress(m, s, p, density, was_failed, run, &plastic_strain[i], sv, &deviatoric_stress[i],
+                 &pressure[i], &artificial_stress[i]);
     return density;
 }
 

@@ -270,6 +270,9 @@ tl_momentum(__global const vec *restrict pos, __global const vec *restrict pos0,
     real acc[3] = {0, 0, 0};
     real de = 0, hourglass_rate = 0;
     vec xsph = VEC_ZERO, acc_extra = VEC_ZERO; /* viscosity, hourglass */
+#ifdef SPH_AV_SWITCH
+    const real beta_per_alpha = run->av_alpha > 0 ? run->av_beta / run->av_alpha : (real)0;
+#endif
     FOR_EACH_NEIGHBOUR_WITHIN(i, j, SPH_GRID_SPLIT)
     {
         const vec big_xij = big_xi - pos0[j];
@@ -298,8 +301,7 @@ tl_momentum(__global const vec *restrict pos, __global const vec *restrict pos0,
                 const real q = sqrt(r2) * inv_h, inv_rho_mean = (real)2 / (rho[i] + rho[j]);
 #ifdef SPH_AV_SWITCH
                 const real alpha_ij = (real)0.5 * (av_alpha[i] + av_alpha[j]);
-                const real beta_ij =
-                    run->av_alpha > 0 ? run->av_beta / run->av_alpha * alpha_ij : (real)0;
+                const real beta_ij = beta_per_alpha * alpha_ij;
 #else
                 (void)av_alpha;
                 const real alpha_ij = run->av_alpha, beta_ij = run->av_beta;
