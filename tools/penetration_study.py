@@ -16,6 +16,11 @@ SEBS gel), each one command, tables and plots under results/penetration/.
   tools/penetration_study.py resistance-chart --tables A.csv B.csv ... --labels ...
                                         --limit MPa [--out PNG]: several resistance
                                         tables on one chart against one limit
+  tools/penetration_study.py calibrate  --case gelatin --parameter KEY --bracket LOW HIGH
+                                        [--n N]: KEY fitted (bounded Brent search in
+                                        log KEY) to the model's depth-time curve of the
+                                        designated shot (d, v0 the case's), RMS misfit
+                                        [--tolerance 0.01 in log KEY]
   common: [--results DIR] [--set key=value ...]
 
 Every run is cases/gelatin_silica.yaml or cases/sebs_steel.yaml with the
@@ -43,6 +48,7 @@ import penetration_models as pm  # noqa: E402
 import studylib  # noqa: E402
 from studylib import write_table  # noqa: E402
 import matplotlib  # noqa: E402
+import numpy as np  # noqa: E402
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -164,7 +170,7 @@ def cmd_run(args):
     case = args.case
     d = args.d[0] if args.d else CASES[case][5]
     v0 = args.v0[0] if args.v0 else CASES[case][6]
-    s, rows = run(args, case, d, v0, args.n[0], f"{case}_d{1e6 * d:g}_v{v0:g}_n{args.n[0]}")
+    s, rows = run(args, case, d, v0, args.n[0], f"{case}_d{1e6 * d:g}_v{v0:g}_n{args.n[0]:g}")
     p_model, t_model = model_depth(case, d, v0)
     write_table(folder(args), f"{case}_run", ["d (um)", "v0 (m/s)", "model P_max (um)"] + HEADER,
                 [[f"{1e6 * d:g}", f"{v0:g}", f"{1e6 * p_model:.2f}"] + describe(s, d)])
@@ -180,7 +186,7 @@ def cmd_sweep(args):
     table, points = [], []
     for d in ds:
         for v0 in vs:
-            s, _ = run(args, case, d, v0, args.n[0], f"{case}_d{1e6 * d:g}_v{v0:g}_n{args.n[0]}")
+            s, _ = run(args, case, d, v0, args.n[0], f"{case}_d{1e6 * d:g}_v{v0:g}_n{args.n[0]:g}")
             p_model, _ = model_depth(case, d, v0)
             err = s["max_penetration_m"] / p_model - 1
             table.append([f"{1e6 * d:g}", f"{v0:g}", f"{p_model / d:.3f}", f"{100 * err:+.1f}%"]
@@ -218,7 +224,7 @@ def cmd_sweep(args):
 def cmd_sebs(args):
     runs, table = [], []
     for d, v0 in pm.SEBS_FIT_CASES:
-        s, rows = run(args, "sebs", d, v0, args.n[0], f"sebs_d{1e6 * d:g}_v{v0:g}_n{args.n[0]}")
+        s, rows = run(args, "sebs", d, v0, args.n[0], f"sebs_d{1e6 * d:g}_v{v0:g}_n{args.n[0]:g}")
         p_model, _ = model_depth("sebs", d, v0)
         p_pon, _ = pm.max_depth("poncelet", pm.SEBS_PONCELET, pm.Projectile(d, pm.STEEL),
                                 pm.SEBS, v0, nose=True)
@@ -232,17 +238,53 @@ def cmd_sebs(args):
                     "SEBS gel, steel spheres: SPH against modified Clift-Gauvin", runs, "sebs")
 
 
+def finest_constant_ratio_triple(n):
+    """Indices of the finest three spacings d / n refined by one ratio, or None."""
+    triples = [(i, j, k) for i in range(len(n)) for j in range(len(n)) for k in range(len(n))
+               if n[i] < n[j] < n[k] and abs(n[j] / n[i] - n[k] / n[j]) < 1e-3 * n[k] / n[j]]
+    return max(triples, key=lambda t: n[t[2]]) if triples else None
+
+
 def cmd_convergence(args):
     case = args.case
     d, v0 = CASES[case][5], CASES[case][6]
-    table, runs = [], []
+    table, runs, depths, walls = [], [], [], []
     for n in args.n:
-        s, rows = run(args, case, d, v0, n, f"{case}_n{n}")
-        table.append([n, f"{1e6 * d / n:.3f}"] + describe(s, d))
-        runs.append((f"d/dx = {n}", d, v0, rows))
-    write_table(folder(args), f"{case}_convergence", ["d/dx", "dx (um)"] + HEADER, table)
+        s, rows = run(args, case, d, v0, n, f"{case}_n{n:g}")
+        table.append([f"{n:g}", f"{1e6 * d / n:.4f}"] + describe(s, d))
+        runs.append((f"d/dx = {n:g}", d, v0, rows))
+        depths.append(s["max_penetration_m"])
+        walls.append(s["wall_time_s"])
+    triple = finest_constant_ratio_triple(args.n)
+    fit = studylib.richardson([d / args.n[i] for i in triple], [depths[i] for i in triple]) \
+        if triple else None
+    if fit:
+        note = (f"Richardson limit {1e6 * fit[0]:.2f} um, observed order {fit[1]:.2f} "
+                f"(d/dx {', '.join(f'{args.n[i]:g}' for i in triple)})")
+        for row, p in zip(table, depths):
+            row.append(f"{100 * (p / fit[0] - 1):+.1f}%")
+    else:
+        note = "no Richardson limit: no three spacings with one ratio whose steps shrink"
+        for row in table:
+            row.append("")
+    table.append(["limit", "", f"{1e6 * fit[0]:.2f}" if fit else ""] + [""] * len(HEADER)
+                 + [note])
+    write_table(folder(args), f"{case}_convergence",
+                ["d/dx", "dx (um)"] + HEADER + ["vs limit"], table)
+    print(note)
     trajectory_plot(os.path.join(folder(args), f"{case}_convergence.png"),
                     f"{case}: convergence with spacing", runs, case)
+    if fit:
+        fig, ax = plt.subplots(figsize=(5.5, 4))
+        ax.loglog(walls, [max(abs(p / fit[0] - 1), 1e-4) for p in depths], "o-")
+        for n, w, p in zip(args.n, walls, depths):
+            ax.annotate(f"d/dx {n:g}", (w, max(abs(p / fit[0] - 1), 1e-4)), fontsize=8)
+        ax.set_xlabel("wall time on this machine (s)")
+        ax.set_ylabel("|P_max / P_limit - 1|")
+        ax.set_title(f"{case}: depth error against cost")
+        fig.tight_layout()
+        fig.savefig(os.path.join(folder(args), f"{case}_convergence_cost.png"), dpi=120)
+        plt.close(fig)
 
 
 def cmd_domain(args):
@@ -266,7 +308,7 @@ def cmd_grading(args):
         runs.append((label, d, v0, rows))
     write_table(folder(args), f"{case}_grading", ["lattice"] + HEADER, table)
     trajectory_plot(os.path.join(folder(args), f"{case}_grading.png"),
-                    f"{case}: graded against uniform lattice, d/dx = {args.n[0]}", runs, case)
+                    f"{case}: graded against uniform lattice, d/dx = {args.n[0]:g}", runs, case)
 
 
 def resistance_limit(n, values):
@@ -295,7 +337,7 @@ def cmd_resistance(args):
     end = args.travel * d / v0
     table, values, walls = [], [], []
     for n in args.n:
-        label = f"{case}_resistance_v{v0:g}_n{n}"
+        label = f"{case}_resistance_v{v0:g}_n{n:g}"
         out = os.path.join(args.results, "penetration", "runs", label)
         sets = scene_sets(case, d, v0, n) + [
             "projectile.motion=prescribed", f"numerics.end_time={end!r}",
@@ -307,7 +349,7 @@ def cmd_resistance(args):
         r = steady_resistance(rows, d, 0.5 * end, end)
         values.append(r)
         walls.append(s["wall_time_s"])
-        table.append([n, f"{1e6 * d / n:.3f}", f"{r / 1e6:.2f}",
+        table.append([f"{n:g}", f"{1e6 * d / n:.3f}", f"{r / 1e6:.2f}",
                       f"{2 * r / (rho * v0 * v0):.3f}", f"{s['energy_drift']:.3f}",
                       f"{s['momentum_error']:.1e}", f"{s['artificial_viscosity_work_fraction']:.2f}",
                       s["particles"], s["steps"], f"{s['wall_time_s']:.0f}", s["status"]])
@@ -339,6 +381,61 @@ def cmd_resistance(args):
     fig.tight_layout()
     fig.savefig(os.path.join(folder(args), f"{case}_resistance_v{v0:g}.png"), dpi=120)
     plt.close(fig)
+
+
+def trajectory_misfit(rows, case, d, v0):
+    """RMS distance between the SPH depth-time curve and the model's, over the
+    model's flight (0 to its time of P_max, 101 times), over the model's P_max."""
+    _, target, rho_p, model, params, _, _ = CASES[case]
+    t_model, p_model, _ = pm.trajectory(model, params, pm.Projectile(d, rho_p), target, v0,
+                                        nose=True)
+    t_model, p_model = t_model[::5], p_model[::5]
+    t_sph = np.array([float(r["time_s"]) for r in rows])
+    p_sph = np.array([float(r["penetration_m"]) for r in rows])
+    if t_sph[-1] < t_model[-1]:
+        return math.inf
+    error = np.interp(t_model, t_sph, p_sph) - p_model
+    return math.sqrt(float(np.mean(error * error))) / p_model[-1]
+
+
+def cmd_calibrate(args):
+    """One material parameter fitted to the designated shot's depth-time curve
+    (REFERENCES.md 3): a bounded Brent search in log(parameter) on --parameter
+    between the two --bracket values, at d/dx --n, each trial a full run."""
+    if not args.parameter or not args.bracket or len(args.bracket) != 2:
+        sys.exit("penetration_study: calibrate needs --parameter KEY and --bracket LOW HIGH")
+    case = args.case
+    d = args.d[0] if args.d else CASES[case][5]
+    v0 = args.v0[0] if args.v0 else CASES[case][6]
+    n = args.n[0]
+    trials = []
+
+    def misfit(log_value):
+        value = math.exp(log_value)
+        label = f"{case}_calibrate_n{n:g}_{len(trials)}"
+        extra = [f"{args.parameter}={value!r}"]
+        saved, args.set = args.set, args.set + extra
+        try:
+            s, rows = run(args, case, d, v0, n, label)
+        finally:
+            args.set = saved
+        m = trajectory_misfit(rows, case, d, v0)
+        trials.append([f"{value:.6g}", f"{m:.4f}"] + describe(s, d))
+        print(f"calibrate: {args.parameter} = {value:.6g}: misfit {m:.4f}, "
+              f"P_max {1e6 * s['max_penetration_m']:.2f} um", flush=True)
+        return m
+
+    from scipy.optimize import minimize_scalar
+    best = minimize_scalar(misfit, bounds=tuple(math.log(b) for b in args.bracket),
+                           method="bounded", options={"xatol": args.tolerance})
+    p_model, t_model = model_depth(case, d, v0)
+    trials.append([f"best {math.exp(best.x):.6g}", f"{best.fun:.4f}",
+                   f"model P_max {1e6 * p_model:.2f} um at {1e9 * t_model:.0f} ns"]
+                  + [""] * (len(HEADER) - 1))
+    write_table(folder(args), f"{case}_calibrate_n{n:g}",
+                [args.parameter, "RMS depth misfit / model P_max"] + HEADER, trials)
+    print(f"calibrate: best {args.parameter} = {math.exp(best.x):.6g} "
+          f"(misfit {best.fun:.4f} of the model's P_max)")
 
 
 def cmd_resistance_chart(args):
@@ -377,11 +474,11 @@ def main():
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("command",
                         choices=["run", "sweep", "sebs", "convergence", "domain", "grading",
-                                 "resistance", "resistance-chart"])
+                                 "resistance", "resistance-chart", "calibrate"])
     parser.add_argument("--case", choices=sorted(CASES), default="gelatin")
     parser.add_argument("--d", type=float, nargs="+", help="sphere diameters, m")
     parser.add_argument("--v0", type=float, nargs="+", help="impact velocities, m/s")
-    parser.add_argument("--n", type=int, nargs="+", help="d / dx (default 10; convergence: "
+    parser.add_argument("--n", type=float, nargs="+", help="d / dx (default 10; convergence: "
                         "6 8 10 12 16; resistance: 8 16 32)")
     parser.add_argument("--set", action="append", default=[], help="extra case override")
     parser.add_argument("--results", default=os.path.join(ROOT, "results"))
@@ -392,13 +489,19 @@ def main():
     parser.add_argument("--travel", type=float, default=5.0,
                         help="resistance: the sphere's travel in diameters (default 5); the "
                         "resistance is the mean over its second half")
+    parser.add_argument("--parameter", help="calibrate: the case key fitted, e.g. "
+                        "materials.gelatin_10wt.youngs_modulus")
+    parser.add_argument("--bracket", type=float, nargs=2, help="calibrate: its bounds")
+    parser.add_argument("--tolerance", type=float, default=0.01,
+                        help="calibrate: the search stops within this of log(parameter)")
     args = parser.parse_args()
     if not args.n:
         args.n = {"convergence": [6, 8, 10, 12, 16],
                   "resistance": [8, 16, 32]}.get(args.command, [10])
     {"run": cmd_run, "sweep": cmd_sweep, "sebs": cmd_sebs, "convergence": cmd_convergence,
      "domain": cmd_domain, "grading": cmd_grading,
-     "resistance": cmd_resistance, "resistance-chart": cmd_resistance_chart}[args.command](args)
+     "resistance": cmd_resistance, "resistance-chart": cmd_resistance_chart,
+     "calibrate": cmd_calibrate}[args.command](args)
 
 
 if __name__ == "__main__":
