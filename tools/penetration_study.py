@@ -268,8 +268,8 @@ def cmd_convergence(args):
         note = "no Richardson limit: no three spacings with one ratio whose steps shrink"
         for row in table:
             row.append("")
-    table.append(["limit", "", f"{1e6 * fit[0]:.2f}" if fit else ""] + [""] * len(HEADER)
-                 + [note])
+    table.append(["limit", "", f"{1e6 * fit[0]:.2f}" if fit else ""]
+                 + [""] * (len(HEADER) - 1) + [note])
     write_table(folder(args), f"{case}_convergence",
                 ["d/dx", "dx (um)"] + HEADER + ["vs limit"], table)
     print(note)
