@@ -245,10 +245,9 @@ static double signal_speed(const struct sph_case *c)
     return solver_max_sound_speed(c) + case_fastest_speed(c, 1);
 }
 
-/* Steps to end_time at the first step's time step: a lower bound (the step
- * shrinks as material compresses). */
-/* The run's steps at its first time step: CFL, or the physical
- * viscosity's limit where that is smaller (solver_time_step). */
+/* Steps to end_time at the first step's time step, CFL or the physical
+ * viscosity's limit where that is smaller (as solver_time_step): a lower
+ * bound (the step shrinks as material compresses). */
 static double step_estimate(const struct sph_case *c)
 {
     const double h = c->numerics.h_over_dx * c->numerics.dx;

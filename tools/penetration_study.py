@@ -101,10 +101,11 @@ def scene_sets(case, d, v0, n, domain=1.0, graded=True):
     return sets
 
 
-def run(args, case, d, v0, n, label, domain=1.0, graded=True):
-    """Runs one scene; returns (summary, ballistics rows)."""
+def run(args, case, d, v0, n, label, domain=1.0, graded=True, extra=()):
+    """Runs one scene (the case scaled to d, v0, n, then `extra` and the
+    command line's --set overrides); returns (summary, ballistics rows)."""
     out = os.path.join(args.results, "penetration", "runs", label)
-    sets = scene_sets(case, d, v0, n, domain, graded) + list(args.set)
+    sets = scene_sets(case, d, v0, n, domain, graded) + list(extra) + list(args.set)
     summary = studylib.run(os.path.join(ROOT, "cases", CASES[case][0]), out, sets,
                            "penetration_study")
     with open(os.path.join(out, "ballistics.csv")) as f:
@@ -239,13 +240,6 @@ def cmd_sebs(args):
                     "SEBS gel, steel spheres: SPH against modified Clift-Gauvin", runs, "sebs")
 
 
-def finest_constant_ratio_triple(n):
-    """Indices of the finest three spacings d / n refined by one ratio, or None."""
-    triples = [(i, j, k) for i in range(len(n)) for j in range(len(n)) for k in range(len(n))
-               if n[i] < n[j] < n[k] and abs(n[j] / n[i] - n[k] / n[j]) < 1e-3 * n[k] / n[j]]
-    return max(triples, key=lambda t: n[t[2]]) if triples else None
-
-
 def cmd_convergence(args):
     case = args.case
     d, v0 = CASES[case][5], CASES[case][6]
@@ -256,9 +250,7 @@ def cmd_convergence(args):
         runs.append((f"d/dx = {n:g}", d, v0, rows))
         depths.append(s["max_penetration_m"])
         walls.append(s["wall_time_s"])
-    triple = finest_constant_ratio_triple(args.n)
-    fit = studylib.richardson([d / args.n[i] for i in triple], [depths[i] for i in triple]) \
-        if triple else None
+    fit, triple = spacing_limit(args.n, depths)
     if fit:
         note = (f"Richardson limit {1e6 * fit[0]:.2f} um, observed order {fit[1]:.2f} "
                 f"(d/dx {', '.join(f'{args.n[i]:g}' for i in triple)})")
@@ -277,11 +269,9 @@ def cmd_convergence(args):
                     f"{case}: convergence with spacing", runs, case)
     if fit:
         fig, ax = plt.subplots(figsize=(5.5, 4))
-        ax.loglog(walls, [max(abs(p / fit[0] - 1), 1e-4) for p in depths], "o-")
+        error_against_cost(ax, walls, depths, fit[0], "|P_max / P_limit - 1|")
         for n, w, p in zip(args.n, walls, depths):
             ax.annotate(f"d/dx {n:g}", (w, max(abs(p / fit[0] - 1), 1e-4)), fontsize=8)
-        ax.set_xlabel("wall time on this machine (s)")
-        ax.set_ylabel("|P_max / P_limit - 1|")
         ax.set_title(f"{case}: depth error against cost")
         fig.tight_layout()
         fig.savefig(os.path.join(folder(args), f"{case}_convergence_cost.png"), dpi=120)
@@ -312,13 +302,24 @@ def cmd_grading(args):
                     f"{case}: graded against uniform lattice, d/dx = {args.n[0]:g}", runs, case)
 
 
-def resistance_limit(n, values):
-    """(limit, order) from the last three spacings d / n, or None unless the
-    steps shrink (a positive order)."""
-    if len(values) < 3:
-        return None
-    fit = studylib.richardson([1 / k for k in n[-3:]], values[-3:])
-    return fit if fit and fit[1] > 0 else None
+def spacing_limit(n, values):
+    """((limit, order), indices) from the finest three spacings d / n refined
+    by one ratio (n in any order), or (None, None) unless there are three
+    such and their steps shrink (a positive order)."""
+    triples = [(i, j, k) for i in range(len(n)) for j in range(len(n)) for k in range(len(n))
+               if n[i] < n[j] < n[k] and abs(n[j] / n[i] - n[k] / n[j]) < 1e-3 * n[k] / n[j]]
+    if not triples:
+        return None, None
+    triple = max(triples, key=lambda t: n[t[2]])
+    fit = studylib.richardson([1 / n[i] for i in triple], [values[i] for i in triple])
+    return (fit, triple) if fit and fit[1] > 0 else (None, None)
+
+
+def error_against_cost(ax, walls, values, limit, ylabel, label=None):
+    """|value / limit - 1| against wall time, log-log (floored at 1e-4)."""
+    ax.loglog(walls, [max(abs(v / limit - 1), 1e-4) for v in values], "o-", label=label)
+    ax.set_xlabel("wall time on this machine (s)")
+    ax.set_ylabel(ylabel)
 
 
 def steady_resistance(rows, d, t0, t1):
@@ -338,15 +339,9 @@ def cmd_resistance(args):
     end = args.travel * d / v0
     table, values, walls = [], [], []
     for n in args.n:
-        label = f"{case}_resistance_v{v0:g}_n{n:g}"
-        out = os.path.join(args.results, "penetration", "runs", label)
-        sets = scene_sets(case, d, v0, n) + [
-            "projectile.motion=prescribed", f"numerics.end_time={end!r}",
-            f"output.snapshot_interval={end / 5!r}"] + list(args.set)
-        s = studylib.run(os.path.join(ROOT, "cases", CASES[case][0]), out, sets,
-                         "penetration_study")
-        with open(os.path.join(out, "ballistics.csv")) as f:
-            rows = list(csv.DictReader(f))
+        s, rows = run(args, case, d, v0, n, f"{case}_resistance_v{v0:g}_n{n:g}",
+                      extra=["projectile.motion=prescribed", f"numerics.end_time={end!r}",
+                             f"output.snapshot_interval={end / 5!r}"])
         r = steady_resistance(rows, d, 0.5 * end, end)
         values.append(r)
         walls.append(s["wall_time_s"])
@@ -354,9 +349,9 @@ def cmd_resistance(args):
                       f"{2 * r / (rho * v0 * v0):.3f}", f"{s['energy_drift']:.3f}",
                       f"{s['momentum_error']:.1e}", f"{s['artificial_viscosity_work_fraction']:.2f}",
                       s["particles"], s["steps"], f"{s['wall_time_s']:.0f}", s["status"]])
-    fit = resistance_limit(args.n, values)
+    fit, _ = spacing_limit(args.n, values)
     note = (f"Richardson limit {fit[0] / 1e6:.2f} MPa, observed order {fit[1]:.2f}" if fit else
-            "no Richardson limit: the last three steps do not shrink monotonically")
+            "no Richardson limit: no three spacings with one ratio whose steps shrink")
     table.append(["limit", "", f"{fit[0] / 1e6:.2f}" if fit else "", "", "", "", "", "", "", "",
                   note])
     write_table(folder(args), f"{case}_resistance_v{v0:g}",
@@ -369,9 +364,7 @@ def cmd_resistance(args):
     if fit:
         left.axhline(fit[0] / 1e6, ls="--", color="k",
                      label=f"Richardson limit (order {fit[1]:.2f})")
-        right.loglog(walls, [abs(v / fit[0] - 1) for v in values], "o-")
-        right.set_xlabel("wall time (s)")
-        right.set_ylabel("|F / F_limit - 1|")
+        error_against_cost(right, walls, values, fit[0], "|F / F_limit - 1|")
         right.set_title("error against cost")
     left.set_xlim(left=0)
     left.set_xlabel("dx / d")
@@ -394,7 +387,8 @@ def trajectory_misfit(rows, case, d, v0):
     t_sph = np.array([float(r["time_s"]) for r in rows])
     p_sph = np.array([float(r["penetration_m"]) for r in rows])
     if t_sph[-1] < t_model[-1]:
-        return math.inf
+        sys.exit(f"penetration_study: the run ended at {1e9 * t_sph[-1]:.0f} ns, before the "
+                 f"model's time of P_max ({1e9 * t_model[-1]:.0f} ns): no misfit to compare")
     error = np.interp(t_model, t_sph, p_sph) - p_model
     return math.sqrt(float(np.mean(error * error))) / p_model[-1]
 
@@ -414,12 +408,7 @@ def cmd_calibrate(args):
     def misfit(log_value):
         value = math.exp(log_value)
         label = f"{case}_calibrate_n{n:g}_{len(trials)}"
-        extra = [f"{args.parameter}={value!r}"]
-        saved, args.set = args.set, args.set + extra
-        try:
-            s, rows = run(args, case, d, v0, n, label)
-        finally:
-            args.set = saved
+        s, rows = run(args, case, d, v0, n, label, extra=[f"{args.parameter}={value!r}"])
         m = trajectory_misfit(rows, case, d, v0)
         trials.append([f"{value:.6g}", f"{m:.4f}"] + describe(s, d))
         print(f"calibrate: {args.parameter} = {value:.6g}: misfit {m:.4f}, "
@@ -448,20 +437,17 @@ def cmd_resistance_chart(args):
     fig, (left, right) = plt.subplots(1, 2, figsize=(10, 4))
     for path, label in zip(args.tables, args.labels):
         with open(path, newline="") as f:
-            rows = [r for r in csv.DictReader(f) if r["d/dx"].isdigit()]
-        n = [int(r["d/dx"]) for r in rows]
+            rows = [r for r in csv.DictReader(f) if r["d/dx"] != "limit"]
+        n = [float(r["d/dx"]) for r in rows]
         value = [float(r["F/(pi R^2) (MPa)"]) for r in rows]
         wall = [float(r["wall (s)"]) for r in rows]
         left.plot([1 / k for k in n], value, "o-", label=label)
-        right.loglog(wall, [max(abs(v / args.limit - 1), 1e-4) for v in value], "o-",
-                     label=label)
+        error_against_cost(right, wall, value, args.limit, "|F / F_limit - 1|", label)
     left.axhline(args.limit, ls="--", color="k", label=f"limit {args.limit:g} MPa")
     left.set_xlim(left=0)
     left.set_xlabel("dx / d")
     left.set_ylabel("steady resistance F / (pi R^2) (MPa)")
     left.legend(fontsize=7)
-    right.set_xlabel("wall time (s)")
-    right.set_ylabel("|F / F_limit - 1|")
     right.set_title("error against cost")
     fig.tight_layout()
     out = args.out or os.path.join(folder(args), "resistance_chart.png")
