@@ -211,10 +211,10 @@ struct solver {
 /* The largest longitudinal sound speed over the case's materials, m/s. */
 double solver_max_sound_speed(const struct sph_case *c);
 
-/* Particles per work-item of passes 1 and 2 (kernels/lanes.cl): 1, the
- * plain loop, for numerics.neighbour_loop plain and the total Lagrangian
- * form (whose kernels take one particle per work-item); SPH_LANES_DEFAULT
- * elsewhere (graded and axisymmetric lattices too). */
+/* Particles per work-item of passes 1 and 2 and of the total Lagrangian
+ * form's tl_deformation and tl_momentum (kernels/lanes.cl): 1, the plain
+ * loop, for numerics.neighbour_loop plain; SPH_LANES_DEFAULT elsewhere
+ * (graded and axisymmetric lattices too). */
 #define SPH_LANES_DEFAULT 8
 int solver_lanes(const struct sph_case *c);
 /* numerics.neighbour_loop auto: lanes on a CPU, plain on a GPU (whose

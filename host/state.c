@@ -50,9 +50,7 @@ void solver_choose_loop(struct sph_case *c, const struct sph_device *dev)
 int solver_lanes(const struct sph_case *c)
 {
     /* auto not yet resolved for a device (sph check, unit tests): a CPU's */
-    return c->numerics.neighbour_loop == SPH_LOOP_PLAIN || c->numerics.total_lagrangian
-               ? 1
-               : SPH_LANES_DEFAULT;
+    return c->numerics.neighbour_loop == SPH_LOOP_PLAIN ? 1 : SPH_LANES_DEFAULT;
 }
 
 void solver_build_options(const struct sph_case *c, char *options, size_t size)

@@ -276,7 +276,7 @@ static void tl_deformation(struct solver *s, double dt)
 {
     struct real_arg a_dt;
     SET_ARGS(s, s->k.tl_deformation, real_value(s, &a_dt, "dt", dt), INT("n", s->n));
-    solver_launch(s, s->k.tl_deformation, (size_t)s->n, 0);
+    solver_launch(s, s->k.tl_deformation, pass_items(s), 0);
 }
 
 static void tl_first_piola(struct solver *s)
@@ -288,7 +288,7 @@ static void tl_first_piola(struct solver *s)
 static void tl_momentum(struct solver *s)
 {
     SET_ARGS(s, s->k.tl_momentum, INT("n", s->n));
-    solver_launch(s, s->k.tl_momentum, (size_t)s->n, 0);
+    solver_launch(s, s->k.tl_momentum, pass_items(s), 0);
 }
 
 /* Pass 1 and the stress-derived fields of the updated or total form. */

@@ -1,14 +1,15 @@
 /*
- * The neighbour loop of passes 1 and 2 (kernels/pass1.cl, pass2.cl), over
+ * The neighbour loop of passes 1 and 2 (kernels/pass1.cl, pass2.cl, and
+ * the total Lagrangian form's tl_deformation and tl_momentum), over
  * lanes of particles: SPH_LANES consecutive particles of the cell-sorted
  * order per work-item. It holds no physics: the passes write their pair
  * terms once, in `realv` arithmetic, and this file makes that arithmetic
  * one particle wide or several.
  *
  * SPH_LANES 1 (numerics.neighbour_loop: plain, the shape a GPU's compiler
- * expects; the total Lagrangian form): realv is real, a work-item is one
- * particle, the loop visits FOR_EACH_NEIGHBOUR's cells.
- * SPH_LANES 8 (lanes, the default in the updated Lagrangian form):
+ * expects): realv is real, a work-item is one particle, the loop visits
+ * FOR_EACH_NEIGHBOUR's cells.
+ * SPH_LANES 8 (lanes, the default on a CPU):
  * PoCL vectorises a kernel across work-items only when its body has no
  * inner loop of varying trip count, so a one-particle neighbour loop runs
  * one particle per instruction on a CPU (docs/performance.md). Here a

@@ -30,33 +30,17 @@
  */
 
 #ifdef SPH_TOTAL_LAGRANGIAN
-#if SPH_LANES != 1
-#error "the total Lagrangian form runs one particle per work-item (host/state.c, solver_lanes)"
-#endif
-
-/* The three components of a vec, as the tensor helpers take them. */
-static inline void vec_components(vec v, real out[3])
+/* V0_j = m_j / rho0_j */
+static inline real tl_reference_volume(__global const real *restrict mass,
+                                       __global const int *restrict material,
+                                       __constant const struct sph_material *materials, int j)
 {
-#pragma unroll
-    for (int a = 0; a < 3; ++a)
-        out[a] = a < SPH_DIM ? vec_get(v, a) : (real)0;
+    return mass[j] / materials[material[j]].density;
 }
 
-/* Whether j (not i) is a reference neighbour of i, given X_ij = X_i - X_j;
- * if so its reference volume V0_j = m_j / rho0_j and the gradient
- * g_ij = grad_X W(|X_ij|) (with respect to X_i). */
-static inline bool tl_reference_pair(bool distinct, vec big_xij, real support2, real inv_h,
-                                     real volume_j, real *volume, vec *grad)
-{
-    const real r2 = dot(big_xij, big_xij);
-    if (!distinct || r2 >= support2)
-        return false;
-    *volume = volume_j;
-    *grad = kernel_dwdr_over_r_q(sqrt(r2) * inv_h, inv_h) * big_xij;
-    return true;
-}
-
-/* C_i from the reference lattice; run once, before the first step.
+/* C_i from the reference lattice; run once, before the first step, one
+ * particle per work-item (ghosts too: their C is reflected from their
+ * owners' at every refresh, but the first tl_first_piola reads it).
  * reads: pos0, mass, material; writes: csph (C_i). */
 __kernel void tl_correction(__global const vec *restrict pos0, __global const real *restrict mass,
                             __global const int *restrict material, GRID_ARGS,
@@ -73,14 +57,16 @@ __kernel void tl_correction(__global const vec *restrict pos0, __global const re
     FOR_EACH_NEIGHBOUR_WITHIN(i, j, SPH_GRID_SPLIT)
     {
         const vec xij = xi - pos0[j];
-        real volume;
-        vec grad;
-        if (tl_reference_pair(j != i, xij, support2, inv_h,
-                              mass[j] / materials[material[j]].density, &volume, &grad)) {
-            real x[3], g[3];
-            vec_components(xij, x);
-            vec_components(grad, g);
-            outer_add(moment, -volume, x, g);
+        const real r2 = dot(xij, xij);
+        if (j != i && r2 < support2) {
+            /* - V0_j X_ij (x) g_ij: the moment of X_j - X_i */
+            const real s = -tl_reference_volume(mass, material, materials, j) *
+                           lane_of(kernel_dwdr_over_r_q((realv)(sqrt(r2) * inv_h), inv_h), 0);
+#pragma unroll
+            for (int p = 0; p < SPH_DIM; ++p)
+#pragma unroll
+                for (int q = 0; q < SPH_DIM; ++q)
+                    moment[p][q] += s * vec_get(xij, p) * vec_get(xij, q);
         }
     }
     END_FOR_EACH_NEIGHBOUR
@@ -89,46 +75,35 @@ __kernel void tl_correction(__global const vec *restrict pos0, __global const re
     csph[i] = symt_store(c); /* symmetric: grad W_ij is along X_ij */
 }
 
-/* F^n from the positions x^n, and its rate from the motion of this step,
- * w = v^(n+1/2) + v_xsph (the velocity integrate_drift moves particles
- * with), so that F^(n+1) = F^n + dt dF/dt is exactly the gradient of
- * x^(n+1). The material update gets L = dF/dt (F^n + dt/2 dF/dt)^-1, the
- * mid-step velocity gradient.
- * reads: pos, pos0, vel_half, xsph_velocity, mass, rho, material, csph;
- * writes: velocity_gradient, density_rate, deformation_gradient (F^(n+1)). */
-__kernel void
-tl_deformation(__global const vec *restrict pos, __global const vec *restrict pos0,
-               __global const vec *restrict vel_half, __global const vec *restrict xsph_velocity,
-               __global const real *restrict mass, __global const real *restrict rho,
-               __global const int *restrict material, __global const int *restrict flags, GRID_ARGS,
-               __constant const struct sph_material *materials,
-               __constant const struct sph_run_params *run, __global const symt *restrict csph,
-               const real dt, __global fullt *restrict velocity_gradient,
-               __global real *restrict density_rate, __global fullt *restrict deformation_gradient,
-               const int n)
+/* The reference pair of the lanes with candidate j: X_ij = X_i - X_j, the
+ * lanes for which j is a reference neighbour (within the support, not i
+ * itself; lanes that are not live sit at LANE_FAR) and g_ij = grad_X W
+ * (|X_ij|) with respect to X_i, zero in the other lanes. The mask of the
+ * reference pairs never changes, so every candidate's test is the same
+ * as at t = 0. */
+static inline maskv tl_reference_pair(realv big_xi[3], vec big_xj, real support2, real inv_h,
+                                      realv big_xij[3], realv *r02, realv grad[3])
 {
-    const int i = get_global_id(0);
-    if (i >= n || (flags[i] & SPH_FLAG_GHOST))
-        return;
-    const real inv_h = (real)1 / run->h, support2 = run->support * run->support;
-    const vec big_xi = pos0[i], xi = pos[i], wi = vel_half[i] + xsph_velocity[i];
-    real sum_x[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
-    real sum_w[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
-    FOR_EACH_NEIGHBOUR_WITHIN(i, j, SPH_GRID_SPLIT)
-    {
-        real volume;
-        vec grad;
-        if (tl_reference_pair(j != i, big_xi - pos0[j], support2, inv_h,
-                              mass[j] / materials[material[j]].density, &volume, &grad)) {
-            real x[3], w[3], g[3];
-            vec_components(pos[j] - xi, x);
-            vec_components(vel_half[j] + xsph_velocity[j] - wi, w);
-            vec_components(grad, g);
-            outer_add(sum_x, volume, x, g);
-            outer_add(sum_w, volume, w, g);
-        }
-    }
-    END_FOR_EACH_NEIGHBOUR
+    const maskv near = lane_pair(big_xi, big_xj, support2, big_xij, r02);
+    const realv dwdr_r =
+        SPH_SELECT((realv)0, kernel_dwdr_over_r_q(sqrt(*r02) * inv_h, inv_h), near);
+#pragma unroll
+    for (int a = 0; a < 3; ++a)
+        grad[a] = dwdr_r * big_xij[a];
+    return near;
+}
+
+/* The end of tl_deformation for one particle: F^(n+1) = (sum_x) C_i +
+ * dt dF/dt with dF/dt = (sum_w) C_i, and L = dF/dt F_mid^-1. */
+static inline void tl_deformation_finish(int i, real sum_x[3][3], real sum_w[3][3], const real dt,
+                                         __global const symt *restrict csph,
+                                         __global const real *restrict rho,
+                                         __global const int *restrict material,
+                                         __constant const struct sph_material *materials,
+                                         __global fullt *restrict velocity_gradient,
+                                         __global real *restrict density_rate,
+                                         __global fullt *restrict deformation_gradient)
+{
     real c[3][3], f[3][3], f_rate[3][3], f_mid[3][3], f_mid_inv[3][3], l[3][3];
     symt_load(csph[i], c);
     matrix_product(sum_x, c, f);
@@ -146,10 +121,76 @@ tl_deformation(__global const vec *restrict pos, __global const vec *restrict po
 #ifdef SPH_PLANE_STRESS
     /* sigma_zz = 0 needs eps_zz rate = -nu/(1-nu) (eps_xx + eps_yy) (Hooke) */
     divergence *= (real)1 - materials[material[i]].plane_stress_nu;
+#else
+    (void)material;
+    (void)materials;
 #endif
     velocity_gradient[i] = fullt_store(l);
     density_rate[i] = -rho[i] * divergence;
     deformation_gradient[i] = fullt_store(f);
+}
+
+/* F^n from the positions x^n, and its rate from the motion of this step,
+ * w = v^(n+1/2) + v_xsph (the velocity integrate_drift moves particles
+ * with), so that F^(n+1) = F^n + dt dF/dt is exactly the gradient of
+ * x^(n+1). The material update gets L = dF/dt (F^n + dt/2 dF/dt)^-1, the
+ * mid-step velocity gradient. One work-item per lane block
+ * (kernels/lanes.cl); the blocks walk the reference grid.
+ * reads: pos, pos0, vel_half, xsph_velocity, mass, rho, material, csph;
+ * writes: velocity_gradient, density_rate, deformation_gradient (F^(n+1)). */
+__kernel void
+tl_deformation(__global const vec *restrict pos, __global const vec *restrict pos0,
+               __global const vec *restrict vel_half, __global const vec *restrict xsph_velocity,
+               __global const real *restrict mass, __global const real *restrict rho,
+               __global const int *restrict material, __global const int *restrict flags, GRID_ARGS,
+               __constant const struct sph_material *materials,
+               __constant const struct sph_run_params *run, __global const symt *restrict csph,
+               const real dt, __global fullt *restrict velocity_gradient,
+               __global real *restrict density_rate, __global fullt *restrict deformation_gradient,
+               const int n)
+{
+    struct lane_block b;
+    if (!lane_block_setup(&b, flags, sort_keys, grid_dims, n))
+        return;
+    LANE_PASS_CONSTANTS;
+    realv big_xi[3], xi[3], wi[3], xsph_i[3];
+    lane_positions(pos0, &b, n, big_xi);
+    gather_vec(pos, &b, n, xi);
+    gather_vec(vel_half, &b, n, wi);
+    gather_vec(xsph_velocity, &b, n, xsph_i);
+#pragma unroll
+    for (int a = 0; a < 3; ++a)
+        wi[a] += xsph_i[a];
+    realv sum_x[3][3], sum_w[3][3];
+    tensor_zero_v(sum_x);
+    tensor_zero_v(sum_w);
+    FOR_EACH_LANE_NEIGHBOUR(b, j)
+    {
+        realv big_xij[3], r02, grad[3];
+        if (!lanes_any(tl_reference_pair(big_xi, pos0[j], support2, inv_h, big_xij, &r02, grad)))
+            continue;
+        const real volume = tl_reference_volume(mass, material, materials, j);
+        const vec xj = pos[j], wj = vel_half[j] + xsph_velocity[j];
+        realv x[3], w[3];
+#pragma unroll
+        for (int a = 0; a < 3; ++a) {
+            x[a] = a < SPH_DIM ? vec_get(xj, a) - xi[a] : (realv)0;
+            w[a] = a < SPH_DIM ? vec_get(wj, a) - wi[a] : (realv)0;
+        }
+        outer_add(sum_x, volume, x, grad);
+        outer_add(sum_w, volume, w, grad);
+    }
+    END_FOR_EACH_LANE_NEIGHBOUR
+    (void)h;
+    for (int l = 0; l < SPH_LANES; ++l) {
+        if (!lane_live(&b, l))
+            continue;
+        real sx[3][3], sw[3][3];
+        tensor_lane(sum_x, l, sx);
+        tensor_lane(sum_w, l, sw);
+        tl_deformation_finish(b.first + l, sx, sw, dt, csph, rho, material, materials,
+                              velocity_gradient, density_rate, deformation_gradient);
+    }
 }
 
 /* A = P C^T with P = J sigma F^-T, J = rho0 / rho (the density carries the
@@ -195,47 +236,170 @@ __kernel void tl_first_piola(__global const real *restrict rho,
     first_piola[i] = fullt_store(a);
 }
 
-/* Hourglass control (after Ganzenmueller 2015, eqs. 18-20): the pair
- * separation predicted by the mean deformation gradient of the two
- * particles, F_ij X_ji, is compared with the actual x_ji; the mismatch along
- * the pair (zero for every linear displacement field, so it adds no
- * stiffness to a homogeneous deformation) is pulled back by a pair force of
- * modulus alpha E V0_i V0_j W(X_ij) / X_ij^2 per metre of mismatch. Returns
- * that force over m_i (an acceleration). */
-static inline vec tl_hourglass(vec xji, vec big_xji, real r0, real w0, real f_mean[3][3],
-                               real coefficient, real volume_j)
+/* What tl_momentum holds of its own particles, one lane each. */
+struct tl_lanes_i {
+    realv x0[3], x[3], v[3], a[3][3], f[3][3], rho, c;
+    realv hourglass; /* the hourglass stiffness alpha E / rho0_i (tl_momentum) */
+#ifdef SPH_AV_SWITCH
+    realv alpha;
+    real beta_per_alpha;
+#endif
+};
+
+static inline void tl_gather(struct tl_lanes_i *I, const struct lane_block *b, int n,
+                             __global const vec *restrict pos, __global const vec *restrict pos0,
+                             __global const vec *restrict vel, __global const real *restrict rho,
+                             __global const fullt *restrict first_piola,
+                             __global const fullt *restrict deformation_gradient,
+                             __global const real *restrict sound_speed,
+                             __global const int *restrict material,
+                             __global const real *restrict av_alpha,
+                             __constant const struct sph_material *materials,
+                             __constant const struct sph_run_params *run)
 {
-    real predicted[3] = {0, 0, 0};
-#pragma unroll
-    for (int a = 0; a < SPH_DIM; ++a)
-#pragma unroll
-        for (int b = 0; b < SPH_DIM; ++b)
-            predicted[a] += f_mean[a][b] * vec_get(big_xji, b);
-    const real r = length(xji);
-    if (r <= 0)
-        return VEC_ZERO;
-    const vec direction = xji / r;
-    const vec mismatch = xji - vec_make(predicted[0], predicted[1], predicted[2]);
-    return (coefficient * volume_j * w0 / (r0 * r0) * dot(mismatch, direction)) * direction;
+    lane_positions(pos0, b, n, I->x0);
+    gather_vec(pos, b, n, I->x);
+    gather_vec(vel, b, n, I->v);
+    gather_fullt(first_piola, b, n, I->a);
+    gather_fullt(deformation_gradient, b, n, I->f);
+    I->rho = SPH_SELECT((realv)1, gather_real(rho, b, n), b->live);
+    I->c = gather_real(sound_speed, b, n);
+    /* alpha E / rho0_i, E = 9 K G / (3 K + G) */
+    lanes_union hourglass;
+    for (int l = 0; l < SPH_LANES; ++l) {
+        __constant const struct sph_material *m =
+            &materials[b->first + l < n ? material[b->first + l] : 0];
+        hourglass.s[l] = run->hourglass * (real)9 * m->bulk_modulus * m->shear_modulus /
+                         (((real)3 * m->bulk_modulus + m->shear_modulus) * m->density);
+    }
+    I->hourglass = hourglass.v;
+#ifdef SPH_AV_SWITCH
+    I->alpha = gather_real(av_alpha, b, n);
+    I->beta_per_alpha = run->av_alpha > 0 ? run->av_beta / run->av_alpha : (real)0;
+#else
+    (void)av_alpha;
+#endif
 }
 
-/* tl_hourglass with the pair's mean deformation gradient (F_i + F_j) / 2. */
-static inline vec tl_pair_hourglass(const real f_i[3][3], fullt f_j, vec xij, vec big_xij, real r0,
-                                    real w0, real hourglass, real volume_j)
+/* Hourglass control (after Ganzenmueller 2015, eqs. 18-20): the pair
+ * separation predicted by the mean deformation gradient of the two
+ * particles, F_ij X_ji with F_ij = (F_i + F_j) / 2, is compared with the
+ * actual x_ji; the mismatch along the pair (zero for every linear
+ * displacement field, so it adds no stiffness to a homogeneous
+ * deformation) is pulled back by a pair force of modulus alpha E V0_i V0_j
+ * W(X_ij) / X_ij^2 per metre of mismatch. Adds that force over m_i (an
+ * acceleration) to acc and its power -1/2 v_ij . a to power, in the lanes
+ * of `near` whose pair is apart (x_ij != 0). */
+static inline void tl_hourglass(const struct tl_lanes_i *I, fullt f_j_packed, const realv xij[3],
+                                const realv big_xij[3], realv r02, realv w0, real volume_j,
+                                const realv vij[3], maskv near, realv acc[3], realv *power)
 {
-    real f_mean[3][3];
-    fullt_load(f_j, f_mean);
+    real f_j[3][3];
+    fullt_load(f_j_packed, f_j);
+    realv r2 = (realv)0, mismatch_along = (realv)0;
 #pragma unroll
-    for (int a = 0; a < 3; ++a)
+    for (int a = 0; a < SPH_DIM; ++a)
+        r2 += xij[a] * xij[a];
+    const maskv apart = near & (r2 > (real)0);
+    const realv inv_r = (real)1 / SPH_SELECT((realv)1, sqrt(r2), apart);
+    /* (x_ji - F_ij X_ji) . x_ji / r = (F_ij X_ij - x_ij) . x_ij / r */
 #pragma unroll
-        for (int b = 0; b < 3; ++b)
-            f_mean[a][b] = (real)0.5 * (f_mean[a][b] + f_i[a][b]);
-    return tl_hourglass(-xij, -big_xij, r0, w0, f_mean, hourglass, volume_j);
+    for (int a = 0; a < SPH_DIM; ++a) {
+        realv predicted = (realv)0;
+#pragma unroll
+        for (int c = 0; c < SPH_DIM; ++c)
+            predicted += (real)0.5 * (I->f[a][c] + f_j[a][c]) * big_xij[c];
+        mismatch_along += (predicted - xij[a]) * xij[a];
+    }
+    const realv s = SPH_SELECT((realv)0,
+                               I->hourglass * volume_j * w0 / SPH_SELECT((realv)1, r02, apart) *
+                                   mismatch_along * inv_r * inv_r,
+                               apart);
+    /* a = s x_ij: a stretched pair (mismatch_along < 0) pulls i towards j */
+#pragma unroll
+    for (int a = 0; a < SPH_DIM; ++a) {
+        acc[a] += s * xij[a];
+        *power -= (real)0.5 * s * vij[a] * xij[a];
+    }
+}
+
+/* The artificial viscosity on the current pair geometry, as in the updated
+ * form: adds -m_j Pi_ij grad W(x_ij) to acc, its heating to de and the
+ * XSPH sum, in the lanes whose pair is within the support now. */
+static inline void tl_viscosity(const struct tl_lanes_i *I, const realv xij[3], const realv vij[3],
+                                real support2, real h, real inv_h, int j,
+                                __global const real *restrict mass,
+                                __global const real *restrict rho,
+                                __global const real *restrict sound_speed,
+                                __global const real *restrict av_alpha,
+                                __constant const struct sph_run_params *run, maskv reference,
+                                realv acc[3], realv *de, realv xsph[3])
+{
+    const realv r2 = xij[0] * xij[0] + xij[1] * xij[1] + xij[2] * xij[2];
+    const maskv near = reference & (r2 < support2) & (r2 > (real)0);
+    if (!lanes_any(near))
+        return;
+    const realv q = sqrt(r2) * inv_h, inv_rho_mean = (real)2 / (I->rho + rho[j]);
+    const realv vx = vij[0] * xij[0] + vij[1] * xij[1] + vij[2] * xij[2];
+#ifdef SPH_AV_SWITCH
+    const realv alpha_ij = (real)0.5 * (I->alpha + av_alpha[j]),
+                beta_ij = I->beta_per_alpha * alpha_ij;
+#else
+    (void)av_alpha;
+    const real alpha_ij = run->av_alpha, beta_ij = run->av_beta;
+#endif
+    const realv pi_ij = artificial_viscosity(vx, r2, h, (real)0.5 * (I->c + sound_speed[j]),
+                                             inv_rho_mean, alpha_ij, beta_ij);
+    const realv s =
+        SPH_SELECT((realv)0, -mass[j] * pi_ij * kernel_dwdr_over_r_q(q, inv_h), near);
+#pragma unroll
+    for (int a = 0; a < SPH_DIM; ++a)
+        acc[a] += s * xij[a];
+    *de -= (real)0.5 * s * vx;
+#ifdef SPH_XSPH
+    const realv w = SPH_SELECT((realv)0, mass[j] * inv_rho_mean * kernel_w_q(q, inv_h), near);
+#pragma unroll
+    for (int a = 0; a < SPH_DIM; ++a)
+        xsph[a] -= w * vij[a];
+#else
+    (void)xsph;
+    (void)run;
+#endif
+}
+
+/* Each live lane's sums to its particle's acceleration, energy rate,
+ * hourglass power and XSPH velocity. */
+static inline void tl_momentum_store(const struct lane_block *b, const realv acc[3],
+                                     const realv acc_extra[3], realv de, realv hourglass_rate,
+                                     const realv xsph[3], __global const int *restrict material,
+                                     __constant const struct sph_material *materials,
+                                     __constant const struct sph_run_params *run,
+                                     __global vec *restrict acceleration,
+                                     __global real *restrict energy_rate,
+                                     __global real *restrict viscous_heating,
+                                     __global real *restrict hourglass_power,
+                                     __global vec *restrict xsph_velocity)
+{
+    for (int l = 0; l < SPH_LANES; ++l) {
+        if (!lane_live(b, l))
+            continue;
+        const int i = b->first + l;
+        const real inv_rho0 = (real)1 / materials[material[i]].density;
+        acceleration[i] =
+            inv_rho0 * vec_make(lane_of(acc[0], l), lane_of(acc[1], l), lane_of(acc[2], l)) +
+            vec_make(lane_of(acc_extra[0], l), lane_of(acc_extra[1], l), lane_of(acc_extra[2], l));
+        energy_rate[i] = lane_of(de, l);
+        viscous_heating[i] = lane_of(de, l); /* no other artificial heating in this form */
+        hourglass_power[i] = lane_of(hourglass_rate, l);
+        store_xsph(xsph_velocity, i,
+                   vec_make(lane_of(xsph[0], l), lane_of(xsph[1], l), lane_of(xsph[2], l)), run);
+    }
 }
 
 /* Pass 2 of the total Lagrangian form: stress force, artificial viscosity
  * (on the current pair geometry, as in the updated form), hourglass control,
- * XSPH. reads: pos, pos0, vel, rho, mass, first_piola, deformation_gradient,
+ * XSPH. One work-item per lane block (kernels/lanes.cl).
+ * reads: pos, pos0, vel, rho, mass, first_piola, deformation_gradient,
  * sound_speed, material, av_alpha (SPH_AV_SWITCH: the pair's alpha is the
  * mean of the particles', beta in the case's ratio to it, as in pass 2);
  * writes: acceleration, energy_rate, viscous_heating
@@ -255,83 +419,53 @@ tl_momentum(__global const vec *restrict pos, __global const vec *restrict pos0,
             __global real *restrict hourglass_power, __global vec *restrict xsph_velocity,
             const int n)
 {
-    const int i = get_global_id(0);
-    if (i >= n || (flags[i] & SPH_FLAG_GHOST))
+    struct lane_block b;
+    if (!lane_block_setup(&b, flags, sort_keys, grid_dims, n))
         return;
-    const real h = run->h, inv_h = (real)1 / h, support2 = run->support * run->support;
-    const vec big_xi = pos0[i], xi = pos[i], vi = vel[i];
-    __constant const struct sph_material *mi = &materials[material[i]];
-    /* hourglass stiffness alpha E / rho0_i, E = 9 K G / (3 K + G) */
-    const real hourglass = run->hourglass * (real)9 * mi->bulk_modulus * mi->shear_modulus /
-                           (((real)3 * mi->bulk_modulus + mi->shear_modulus) * mi->density);
-    real a_i[3][3], f_i[3][3];
-    fullt_load(first_piola[i], a_i);
-    fullt_load(deformation_gradient[i], f_i);
-    real acc[3] = {0, 0, 0};
-    real de = 0, hourglass_rate = 0;
-    vec xsph = VEC_ZERO, acc_extra = VEC_ZERO; /* viscosity, hourglass */
-#ifdef SPH_AV_SWITCH
-    const real beta_per_alpha = run->av_alpha > 0 ? run->av_beta / run->av_alpha : (real)0;
-#endif
-    FOR_EACH_NEIGHBOUR_WITHIN(i, j, SPH_GRID_SPLIT)
+    LANE_PASS_CONSTANTS;
+    struct tl_lanes_i I;
+    tl_gather(&I, &b, n, pos, pos0, vel, rho, first_piola, deformation_gradient, sound_speed,
+              material, av_alpha, materials, run);
+    realv acc[3] = {(realv)0, (realv)0, (realv)0}; /* the stress force times rho0_i */
+    realv acc_extra[3] = {(realv)0, (realv)0, (realv)0}; /* viscosity, hourglass */
+    realv xsph[3] = {(realv)0, (realv)0, (realv)0};
+    realv de = (realv)0, hourglass_rate = (realv)0;
+    FOR_EACH_LANE_NEIGHBOUR(b, j)
     {
-        const vec big_xij = big_xi - pos0[j];
-        const real r02 = dot(big_xij, big_xij);
-        if (j != i && r02 < support2) {
-            const real r0 = sqrt(r02);
-            __constant const struct sph_material *mj = &materials[material[j]];
-            const real volume_j = mass[j] / mj->density;
-            const real dwdr_r = kernel_dwdr_over_r_q(r0 * inv_h, inv_h);
-            real a_j[3][3], grad[3] = {0, 0, 0}, stress_force[3];
-            fullt_load(first_piola[j], a_j);
+        realv big_xij[3], r02, grad[3];
+        const maskv reference =
+            tl_reference_pair(I.x0, pos0[j], support2, inv_h, big_xij, &r02, grad);
+        if (!lanes_any(reference))
+            continue;
+        const real volume_j = tl_reference_volume(mass, material, materials, j);
+        real a_j[3][3];
+        fullt_load(first_piola[j], a_j);
+        /* V0_j (A_i + A_j) g_ij */
 #pragma unroll
-            for (int a = 0; a < SPH_DIM; ++a)
-                grad[a] = dwdr_r * vec_get(big_xij, a);
+        for (int a = 0; a < SPH_DIM; ++a) {
+            realv stress_force = (realv)0;
 #pragma unroll
-            for (int a = 0; a < SPH_DIM; ++a) {
-                stress_force[a] = 0;
-#pragma unroll
-                for (int b = 0; b < SPH_DIM; ++b)
-                    stress_force[a] += (a_i[a][b] + a_j[a][b]) * grad[b];
-                acc[a] += volume_j * stress_force[a];
-            }
-            const vec xij = xi - pos[j], vij = vi - vel[j];
-            const real r2 = dot(xij, xij);
-            if (r2 < support2 && r2 > 0) {
-                const real q = sqrt(r2) * inv_h, inv_rho_mean = (real)2 / (rho[i] + rho[j]);
-#ifdef SPH_AV_SWITCH
-                const real alpha_ij = (real)0.5 * (av_alpha[i] + av_alpha[j]);
-                const real beta_ij = beta_per_alpha * alpha_ij;
-#else
-                (void)av_alpha;
-                const real alpha_ij = run->av_alpha, beta_ij = run->av_beta;
-#endif
-                const real pi_ij = artificial_viscosity(
-                    dot(vij, xij), r2, h, (real)0.5 * (sound_speed[i] + sound_speed[j]),
-                    inv_rho_mean, alpha_ij, beta_ij);
-                const vec visc = (-mass[j] * pi_ij * kernel_dwdr_over_r_q(q, inv_h)) * xij;
-                acc_extra += visc;
-                de -= (real)0.5 * dot(vij, visc);
-#ifdef SPH_XSPH
-                xsph -= (mass[j] * inv_rho_mean * kernel_w_q(q, inv_h)) * vij;
-#endif
-            }
-            if (hourglass > 0) {
-                const vec a_hg =
-                    tl_pair_hourglass(f_i, deformation_gradient[j], xij, big_xij, r0,
-                                      kernel_w_q(r0 * inv_h, inv_h), hourglass, volume_j);
-                acc_extra += a_hg;
-                hourglass_rate -= (real)0.5 * dot(vij, a_hg);
-            }
+            for (int c = 0; c < SPH_DIM; ++c)
+                stress_force += (I.a[a][c] + a_j[a][c]) * grad[c];
+            acc[a] += volume_j * stress_force;
         }
+        const vec xj = pos[j], vj = vel[j];
+        realv xij[3], vij[3];
+#pragma unroll
+        for (int a = 0; a < 3; ++a) {
+            xij[a] = a < SPH_DIM ? I.x[a] - vec_get(xj, a) : (realv)0;
+            vij[a] = a < SPH_DIM ? I.v[a] - vec_get(vj, a) : (realv)0;
+        }
+        tl_viscosity(&I, xij, vij, support2, h, inv_h, j, mass, rho, sound_speed, av_alpha, run,
+                     reference, acc_extra, &de, xsph);
+        if (run->hourglass > 0)
+            tl_hourglass(&I, deformation_gradient[j], xij, big_xij, r02,
+                         kernel_w_q(sqrt(r02) * inv_h, inv_h), volume_j, vij, reference,
+                         acc_extra, &hourglass_rate);
     }
-    END_FOR_EACH_NEIGHBOUR
-    const real inv_rho0 = (real)1 / mi->density;
-    acceleration[i] = inv_rho0 * vec_make(acc[0], acc[1], acc[2]) + acc_extra;
-    energy_rate[i] = de;
-    viscous_heating[i] = de; /* no other artificial heating in this form */
-    hourglass_power[i] = hourglass_rate;
-    store_xsph(xsph_velocity, i, xsph, run);
+    END_FOR_EACH_LANE_NEIGHBOUR
+    tl_momentum_store(&b, acc, acc_extra, de, hourglass_rate, xsph, material, materials, run,
+                      acceleration, energy_rate, viscous_heating, hourglass_power, xsph_velocity);
 }
 
 #endif /* SPH_TOTAL_LAGRANGIAN */
