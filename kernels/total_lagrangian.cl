@@ -95,14 +95,11 @@ static inline maskv tl_reference_pair(realv big_xi[3], vec big_xj, real support2
 
 /* The end of tl_deformation for one particle: F^(n+1) = (sum_x) C_i +
  * dt dF/dt with dF/dt = (sum_w) C_i, and L = dF/dt F_mid^-1. */
-static inline void tl_deformation_finish(int i, real sum_x[3][3], real sum_w[3][3], const real dt,
-                                         __global const symt *restrict csph,
-                                         __global const real *restrict rho,
-                                         __global const int *restrict material,
-                                         __constant const struct sph_material *materials,
-                                         __global fullt *restrict velocity_gradient,
-                                         __global real *restrict density_rate,
-                                         __global fullt *restrict deformation_gradient)
+static inline void tl_deformation_finish(
+    int i, real sum_x[3][3], real sum_w[3][3], const real dt, __global const symt *restrict csph,
+    __global const real *restrict rho, __global const int *restrict material,
+    __constant const struct sph_material *materials, __global fullt *restrict velocity_gradient,
+    __global real *restrict density_rate, __global fullt *restrict deformation_gradient)
 {
     real c[3][3], f[3][3], f_rate[3][3], f_mid[3][3], f_mid_inv[3][3], l[3][3];
     symt_load(csph[i], c);
@@ -180,8 +177,7 @@ tl_deformation(__global const vec *restrict pos, __global const vec *restrict po
         outer_add(sum_x, volume, x, grad);
         outer_add(sum_w, volume, w, grad);
     }
-    END_FOR_EACH_LANE_NEIGHBOUR
-    (void)h;
+    END_FOR_EACH_LANE_NEIGHBOUR(void) h;
     for (int l = 0; l < SPH_LANES; ++l) {
         if (!lane_live(&b, l))
             continue;
@@ -246,16 +242,14 @@ struct tl_lanes_i {
 #endif
 };
 
-static inline void tl_gather(struct tl_lanes_i *I, const struct lane_block *b, int n,
-                             __global const vec *restrict pos, __global const vec *restrict pos0,
-                             __global const vec *restrict vel, __global const real *restrict rho,
-                             __global const fullt *restrict first_piola,
-                             __global const fullt *restrict deformation_gradient,
-                             __global const real *restrict sound_speed,
-                             __global const int *restrict material,
-                             __global const real *restrict av_alpha,
-                             __constant const struct sph_material *materials,
-                             __constant const struct sph_run_params *run)
+static inline void
+tl_gather(struct tl_lanes_i *I, const struct lane_block *b, int n, __global const vec *restrict pos,
+          __global const vec *restrict pos0, __global const vec *restrict vel,
+          __global const real *restrict rho, __global const fullt *restrict first_piola,
+          __global const fullt *restrict deformation_gradient,
+          __global const real *restrict sound_speed, __global const int *restrict material,
+          __global const real *restrict av_alpha, __constant const struct sph_material *materials,
+          __constant const struct sph_run_params *run)
 {
     lane_positions(pos0, b, n, I->x0);
     gather_vec(pos, b, n, I->x);
@@ -326,14 +320,12 @@ static inline void tl_hourglass(const struct tl_lanes_i *I, fullt f_j_packed, co
 /* The artificial viscosity on the current pair geometry, as in the updated
  * form: adds -m_j Pi_ij grad W(x_ij) to acc, its heating to de and the
  * XSPH sum, in the lanes whose pair is within the support now. */
-static inline void tl_viscosity(const struct tl_lanes_i *I, const realv xij[3], const realv vij[3],
-                                real support2, real h, real inv_h, int j,
-                                __global const real *restrict mass,
-                                __global const real *restrict rho,
-                                __global const real *restrict sound_speed,
-                                __global const real *restrict av_alpha,
-                                __constant const struct sph_run_params *run, maskv reference,
-                                realv acc[3], realv *de, realv xsph[3])
+static inline void
+tl_viscosity(const struct tl_lanes_i *I, const realv xij[3], const realv vij[3], real support2,
+             real h, real inv_h, int j, __global const real *restrict mass,
+             __global const real *restrict rho, __global const real *restrict sound_speed,
+             __global const real *restrict av_alpha, __constant const struct sph_run_params *run,
+             maskv reference, realv acc[3], realv *de, realv xsph[3])
 {
     const realv r2 = xij[0] * xij[0] + xij[1] * xij[1] + xij[2] * xij[2];
     const maskv near = reference & (r2 < support2) & (r2 > (real)0);
@@ -350,8 +342,7 @@ static inline void tl_viscosity(const struct tl_lanes_i *I, const realv xij[3], 
 #endif
     const realv pi_ij = artificial_viscosity(vx, r2, h, (real)0.5 * (I->c + sound_speed[j]),
                                              inv_rho_mean, alpha_ij, beta_ij);
-    const realv s =
-        SPH_SELECT((realv)0, -mass[j] * pi_ij * kernel_dwdr_over_r_q(q, inv_h), near);
+    const realv s = SPH_SELECT((realv)0, -mass[j] * pi_ij * kernel_dwdr_over_r_q(q, inv_h), near);
 #pragma unroll
     for (int a = 0; a < SPH_DIM; ++a)
         acc[a] += s * xij[a];
@@ -369,16 +360,14 @@ static inline void tl_viscosity(const struct tl_lanes_i *I, const realv xij[3], 
 
 /* Each live lane's sums to its particle's acceleration, energy rate,
  * hourglass power and XSPH velocity. */
-static inline void tl_momentum_store(const struct lane_block *b, const realv acc[3],
-                                     const realv acc_extra[3], realv de, realv hourglass_rate,
-                                     const realv xsph[3], __global const int *restrict material,
-                                     __constant const struct sph_material *materials,
-                                     __constant const struct sph_run_params *run,
-                                     __global vec *restrict acceleration,
-                                     __global real *restrict energy_rate,
-                                     __global real *restrict viscous_heating,
-                                     __global real *restrict hourglass_power,
-                                     __global vec *restrict xsph_velocity)
+static inline void
+tl_momentum_store(const struct lane_block *b, const realv acc[3], const realv acc_extra[3],
+                  realv de, realv hourglass_rate, const realv xsph[3],
+                  __global const int *restrict material,
+                  __constant const struct sph_material *materials,
+                  __constant const struct sph_run_params *run, __global vec *restrict acceleration,
+                  __global real *restrict energy_rate, __global real *restrict viscous_heating,
+                  __global real *restrict hourglass_power, __global vec *restrict xsph_velocity)
 {
     for (int l = 0; l < SPH_LANES; ++l) {
         if (!lane_live(b, l))
@@ -426,7 +415,7 @@ tl_momentum(__global const vec *restrict pos, __global const vec *restrict pos0,
     struct tl_lanes_i I;
     tl_gather(&I, &b, n, pos, pos0, vel, rho, first_piola, deformation_gradient, sound_speed,
               material, av_alpha, materials, run);
-    realv acc[3] = {(realv)0, (realv)0, (realv)0}; /* the stress force times rho0_i */
+    realv acc[3] = {(realv)0, (realv)0, (realv)0};       /* the stress force times rho0_i */
     realv acc_extra[3] = {(realv)0, (realv)0, (realv)0}; /* viscosity, hourglass */
     realv xsph[3] = {(realv)0, (realv)0, (realv)0};
     realv de = (realv)0, hourglass_rate = (realv)0;
@@ -460,8 +449,8 @@ tl_momentum(__global const vec *restrict pos, __global const vec *restrict pos0,
                      reference, acc_extra, &de, xsph);
         if (run->hourglass > 0)
             tl_hourglass(&I, deformation_gradient[j], xij, big_xij, r02,
-                         kernel_w_q(sqrt(r02) * inv_h, inv_h), volume_j, vij, reference,
-                         acc_extra, &hourglass_rate);
+                         kernel_w_q(sqrt(r02) * inv_h, inv_h), volume_j, vij, reference, acc_extra,
+                         &hourglass_rate);
     }
     END_FOR_EACH_LANE_NEIGHBOUR
     tl_momentum_store(&b, acc, acc_extra, de, hourglass_rate, xsph, material, materials, run,
