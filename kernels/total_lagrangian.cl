@@ -75,18 +75,18 @@ __kernel void tl_correction(__global const vec *restrict pos0, __global const re
     csph[i] = symt_store(c); /* symmetric: grad W_ij is along X_ij */
 }
 
-/* The reference pair of the lanes with candidate j: X_ij = X_i - X_j, the
- * lanes for which j is a reference neighbour (within the support, not i
- * itself; lanes that are not live sit at LANE_FAR) and g_ij = grad_X W
- * (|X_ij|) with respect to X_i, zero in the other lanes. The mask of the
- * reference pairs never changes, so every candidate's test is the same
- * as at t = 0. */
+/* The reference pair of the lanes with candidate j: X_ij = X_i - X_j, its
+ * square and q0 = |X_ij| / h, the lanes for which j is a reference
+ * neighbour (within the support, not i itself; lanes that are not live sit
+ * at LANE_FAR) and g_ij = grad_X W(|X_ij|) with respect to X_i, zero in
+ * the other lanes. The mask of the reference pairs never changes, so every
+ * candidate's test is the same as at t = 0. */
 static inline maskv tl_reference_pair(realv big_xi[3], vec big_xj, real support2, real inv_h,
-                                      realv big_xij[3], realv *r02, realv grad[3])
+                                      realv big_xij[3], realv *r02, realv *q0, realv grad[3])
 {
     const maskv near = lane_pair(big_xi, big_xj, support2, big_xij, r02);
-    const realv dwdr_r =
-        SPH_SELECT((realv)0, kernel_dwdr_over_r_q(sqrt(*r02) * inv_h, inv_h), near);
+    *q0 = sqrt(*r02) * inv_h;
+    const realv dwdr_r = SPH_SELECT((realv)0, kernel_dwdr_over_r_q(*q0, inv_h), near);
 #pragma unroll
     for (int a = 0; a < 3; ++a)
         grad[a] = dwdr_r * big_xij[a];
@@ -163,8 +163,9 @@ tl_deformation(__global const vec *restrict pos, __global const vec *restrict po
     tensor_zero_v(sum_w);
     FOR_EACH_LANE_NEIGHBOUR(b, j)
     {
-        realv big_xij[3], r02, grad[3];
-        if (!lanes_any(tl_reference_pair(big_xi, pos0[j], support2, inv_h, big_xij, &r02, grad)))
+        realv big_xij[3], r02, q0, grad[3];
+        if (!lanes_any(
+                tl_reference_pair(big_xi, pos0[j], support2, inv_h, big_xij, &r02, &q0, grad)))
             continue;
         const real volume = tl_reference_volume(mass, material, materials, j);
         const vec xj = pos[j], wj = vel_half[j] + xsph_velocity[j];
@@ -295,8 +296,7 @@ static inline void tl_hourglass(const struct tl_lanes_i *I, fullt f_j_packed, co
     for (int a = 0; a < SPH_DIM; ++a)
         r2 += xij[a] * xij[a];
     const maskv apart = near & (r2 > (real)0);
-    const realv inv_r = (real)1 / SPH_SELECT((realv)1, sqrt(r2), apart);
-    /* (x_ji - F_ij X_ji) . x_ji / r = (F_ij X_ij - x_ij) . x_ij / r */
+    /* (x_ji - F_ij X_ji) . x_ji = (F_ij X_ij - x_ij) . x_ij */
 #pragma unroll
     for (int a = 0; a < SPH_DIM; ++a) {
         realv predicted = (realv)0;
@@ -305,9 +305,10 @@ static inline void tl_hourglass(const struct tl_lanes_i *I, fullt f_j_packed, co
             predicted += (real)0.5 * (I->f[a][c] + f_j[a][c]) * big_xij[c];
         mismatch_along += (predicted - xij[a]) * xij[a];
     }
+    /* the modulus over r, so that a = s x_ij: one division */
     const realv s = SPH_SELECT((realv)0,
-                               I->hourglass * volume_j * w0 / SPH_SELECT((realv)1, r02, apart) *
-                                   mismatch_along * inv_r * inv_r,
+                               I->hourglass * volume_j * w0 * mismatch_along /
+                                   SPH_SELECT((realv)1, r02 * r2, apart),
                                apart);
     /* a = s x_ij: a stretched pair (mismatch_along < 0) pulls i towards j */
 #pragma unroll
@@ -421,9 +422,9 @@ tl_momentum(__global const vec *restrict pos, __global const vec *restrict pos0,
     realv de = (realv)0, hourglass_rate = (realv)0;
     FOR_EACH_LANE_NEIGHBOUR(b, j)
     {
-        realv big_xij[3], r02, grad[3];
+        realv big_xij[3], r02, q0, grad[3];
         const maskv reference =
-            tl_reference_pair(I.x0, pos0[j], support2, inv_h, big_xij, &r02, grad);
+            tl_reference_pair(I.x0, pos0[j], support2, inv_h, big_xij, &r02, &q0, grad);
         if (!lanes_any(reference))
             continue;
         const real volume_j = tl_reference_volume(mass, material, materials, j);
@@ -448,9 +449,8 @@ tl_momentum(__global const vec *restrict pos, __global const vec *restrict pos0,
         tl_viscosity(&I, xij, vij, support2, h, inv_h, j, mass, rho, sound_speed, av_alpha, run,
                      reference, acc_extra, &de, xsph);
         if (run->hourglass > 0)
-            tl_hourglass(&I, deformation_gradient[j], xij, big_xij, r02,
-                         kernel_w_q(sqrt(r02) * inv_h, inv_h), volume_j, vij, reference, acc_extra,
-                         &hourglass_rate);
+            tl_hourglass(&I, deformation_gradient[j], xij, big_xij, r02, kernel_w_q(q0, inv_h),
+                         volume_j, vij, reference, acc_extra, &hourglass_rate);
     }
     END_FOR_EACH_LANE_NEIGHBOUR
     tl_momentum_store(&b, acc, acc_extra, de, hourglass_rate, xsph, material, materials, run,
