@@ -52,11 +52,10 @@ const struct field_info field_table[FIELD_COUNT] = {
                                     TL, TL, MIRROR_REFLECT, NULL},
     [FIELD_FIRST_PIOLA] = {"first_piola_corrected", "first_piola", ELEM_FULLT, 1, TL, TL,
                            MIRROR_REFLECT, NULL},
-    /* the total Lagrangian form's L serves the particle's own material
-     * update; only the limited viscosity's reconstruction reads a
-     * neighbour's */
+    /* the limited viscosity's reconstruction reads a neighbour's (pass 1
+     * -> pass 2); both passes 1 use their own L at once */
     [FIELD_VELOCITY_GRADIENT] = {"velocity_gradient", "velocity_gradient", ELEM_FULLT, 1,
-                                 TL | USED_AV_LIMITED, USED_AV_LIMITED, MIRROR_REFLECT, NULL},
+                                 USED_AV_LIMITED, USED_AV_LIMITED, MIRROR_REFLECT, NULL},
     [FIELD_AV_ALPHA] = {"artificial_viscosity_alpha", "av_alpha", ELEM_REAL, 1, USED_AV_SWITCH,
                         USED_AV_SWITCH, MIRROR_COPY, "1"},
     /* d(div v)/dt, Cullen & Dehnen's shock indicator, from two steps */
@@ -66,8 +65,6 @@ const struct field_info field_table[FIELD_COUNT] = {
      * (kernels/material.cl); pass 2 reads only the sum, deviatoric_stress */
     [FIELD_VISCOUS_STRESS] = {"viscous_stress", "viscous_stress", ELEM_SYMT, 1, USED_VISCOSITY, 0,
                               MIRROR_NONE, NULL},
-    /* the updated form's pass 1 uses its density rate at once */
-    [FIELD_DENSITY_RATE] = {"density_rate", "density_rate", ELEM_REAL, 0, TL, 0, MIRROR_NONE, NULL},
     [FIELD_ACCELERATION] = {"acceleration", "acceleration", ELEM_VEC, 0, ALL, 0, MIRROR_NONE, NULL},
     [FIELD_ENERGY_RATE] = {"energy_rate", "energy_rate", ELEM_REAL, 0, ALL, 0, MIRROR_NONE, NULL},
     [FIELD_VISCOUS_HEATING] = {"artificial_viscosity_heating", "viscous_heating", ELEM_REAL, 0, ALL,

@@ -48,11 +48,10 @@ enum field {
     FIELD_CSPH,
     FIELD_DEFORMATION_GRADIENT, /* total Lagrangian only */
     FIELD_FIRST_PIOLA,          /* total Lagrangian only: P C^T */
-    FIELD_VELOCITY_GRADIENT,    /* total Lagrangian, or the limited viscosity (pass 1 -> pass 2) */
+    FIELD_VELOCITY_GRADIENT,    /* the limited viscosity (pass 1 -> pass 2) */
     FIELD_AV_ALPHA,             /* the switch viscosity's alpha per particle */
     FIELD_AV_DIVERGENCE,        /* cullen_dehnen: the last step's div v, 1/s */
     FIELD_VISCOUS_STRESS,       /* the physical viscosity's part of deviatoric_stress */
-    FIELD_DENSITY_RATE,
     FIELD_ACCELERATION,
     FIELD_ENERGY_RATE,
     FIELD_VISCOUS_HEATING, /* W/kg: the artificial viscosity's part of energy_rate */
@@ -121,8 +120,8 @@ struct ghosts {
 struct kernels {
     cl_kernel cell_keys, bitonic_step, fill_int, cell_ranges, bounds;
     cl_kernel gather[ELEM_COUNT], copy[ELEM_COUNT];
-    cl_kernel pass1, material, pass2, kick, drift, reduce, neighbour_count;
-    cl_kernel tl_correction, tl_deformation, tl_first_piola, tl_momentum;
+    cl_kernel pass1, pass2, kick, drift, reduce, neighbour_count;
+    cl_kernel tl_correction, tl_deformation, tl_momentum;
     cl_kernel health;
     cl_kernel projectile_contact, projectile_advance, projectile_cavity;
     cl_kernel neighbour_reach, cell_max_level, apply_reach; /* graded lattices only */

@@ -27,7 +27,6 @@ static void step_kernels(struct solver *s, int make)
         {k->gather, "grid_gather", 1},
         {k->copy, "grid_copy", 1},
         {&k->pass1, "pass1_velocity_gradient", 0},
-        {&k->material, s->total_lagrangian ? "material_update" : NULL, 0},
         {&k->pass2, "pass2_momentum_energy", 0},
         {&k->kick, "integrate_kick", 0},
         {&k->drift, "integrate_drift", 0},
@@ -35,7 +34,6 @@ static void step_kernels(struct solver *s, int make)
         {&k->neighbour_count, "health_neighbour_count", 0},
         {&k->tl_correction, s->total_lagrangian ? "tl_correction" : NULL, 0},
         {&k->tl_deformation, s->total_lagrangian ? "tl_deformation" : NULL, 0},
-        {&k->tl_first_piola, s->total_lagrangian ? "tl_first_piola" : NULL, 0},
         {&k->tl_momentum, s->total_lagrangian ? "tl_momentum" : NULL, 0},
         {&k->health, "health_indicators", 0},
         {&k->neighbour_reach, s->graded ? "grid_neighbour_reach" : NULL, 0},
@@ -251,14 +249,6 @@ static void pass1(struct solver *s, double dt)
     solver_launch(s, s->k.pass1, pass_items(s), 0);
 }
 
-/* The total Lagrangian form's material update (its own kernel). */
-static void material(struct solver *s, double dt)
-{
-    struct real_arg a_dt;
-    SET_ARGS(s, s->k.material, real_value(s, &a_dt, "dt", dt), INT("n", s->n));
-    solver_launch(s, s->k.material, (size_t)s->n, 0);
-}
-
 static void pass2(struct solver *s)
 {
     SET_ARGS(s, s->k.pass2, INT("n", s->n));
@@ -279,12 +269,6 @@ static void tl_deformation(struct solver *s, double dt)
     solver_launch(s, s->k.tl_deformation, pass_items(s), 0);
 }
 
-static void tl_first_piola(struct solver *s)
-{
-    SET_ARGS(s, s->k.tl_first_piola, INT("n", s->n));
-    solver_launch(s, s->k.tl_first_piola, (size_t)s->n, 0);
-}
-
 static void tl_momentum(struct solver *s)
 {
     SET_ARGS(s, s->k.tl_momentum, INT("n", s->n));
@@ -297,13 +281,10 @@ static void deformation_and_material(struct solver *s, double dt)
     /* the kick changed the half-step velocity, pass 2 the XSPH velocity */
     static const enum field moved[] = {FIELD_VEL_HALF, FIELD_XSPH_VELOCITY};
     solver_ghosts_refresh(s, moved, 2);
-    if (s->total_lagrangian) {
-        tl_deformation(s, dt);
-        material(s, dt);
-        tl_first_piola(s);
-    } else {
+    if (s->total_lagrangian)
+        tl_deformation(s, dt); /* with the material update, as pass 1 */
+    else
         pass1(s, dt);
-    }
 }
 
 void solver_prime(struct solver *s)

@@ -3,8 +3,8 @@
  * half-step velocity: Jaumann stress rate, von Mises radial return, density
  * and energy, then the equation of state and the artificial stress of the new
  * state (for the next pass 2). material_update_particle does one particle;
- * pass 1 calls it (updated Lagrangian), material_update launches it (total
- * Lagrangian).
+ * pass 1 (updated Lagrangian) and tl_deformation (total Lagrangian) call it
+ * at the end of their neighbour sums.
  */
 
 /* Equations of state take the compression mu = rho / rho0 - 1 computed from
@@ -489,30 +489,4 @@ material_update_particle(int i, real l[3][3], real density_rate_i, real dt,
     store_stress(m, s, p, density, was_failed, run, &plastic_strain[i], sv, &deviatoric_stress[i],
                  &pressure[i], &artificial_stress[i]);
     return density;
-}
-
-/* The total Lagrangian form's material update, after tl_deformation (its
- * first Piola stress needs the new density at once).
- * reads: velocity_gradient, density_rate, energy_rate, material, flags,
- *        pressure (p^n), pos and vel_half (axisymmetric hoop rate);
- * updates: density_change, energy, deviatoric_stress, plastic_strain,
- *          temperature, viscous_stress (SPH_VISCOSITY), av_alpha
- *          (SPH_AV_SWITCH); writes: rho,
- *          pressure, artificial_stress. */
-__kernel void material_update(
-    __global real *restrict rho, __global const fullt *restrict velocity_gradient,
-    __global const real *restrict density_rate, __global const int *restrict material,
-    __global const int *restrict flags, __global const vec *restrict pos,
-    __global const vec *restrict vel_half, __constant const struct sph_material *materials,
-    __constant const struct sph_run_params *run, const real dt, MATERIAL_STATE_ARGS, const int n)
-{
-    const int i = get_global_id(0);
-    /* a ghost's state is copied from its particle at the next refresh, and
-     * its velocity gradient is not computed: nothing to update */
-    if (i >= n || (flags[i] & SPH_FLAG_GHOST))
-        return;
-    real l[3][3];
-    fullt_load(velocity_gradient[i], l);
-    rho[i] = material_update_particle(i, l, density_rate[i], dt, rho, material, flags, pos,
-                                      vel_half, materials, run, MATERIAL_STATE);
 }

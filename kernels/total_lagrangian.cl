@@ -21,9 +21,10 @@
  *                         with A = P C^T, P = J sigma F^-T (first Piola-Kirchhoff);
  *                         plus artificial viscosity, XSPH and hourglass control
  *   tl_deformation (pass 1) F and its rate from the motion of the step;
- *                         L = dF/dt F_mid^-1 for the material update
- *   material_update       the same constitutive update as the updated form
- *   tl_first_piola        A^(n+1) for the next step's momentum
+ *                         L = dF/dt F_mid^-1, and with it, particle by
+ *                         particle, the same constitutive update as the
+ *                         updated form (material.cl) and A^(n+1) for the
+ *                         next step's momentum
  * The stress force is the derivative of sum_i V0_i Psi(F_i) with respect to
  * x_i, hence antisymmetric in the pair (momentum is conserved exactly) and
  * work-conjugate to the deformation rate that the material update uses.
@@ -93,13 +94,44 @@ static inline maskv tl_reference_pair(realv big_xi[3], vec big_xj, real support2
     return near;
 }
 
+/* A = P C^T with P = J sigma F^-T, J = rho0 / rho (the density carries the
+ * out-of-plane stretch in plane stress, so J is the volume ratio of the
+ * slice), of particle i's stress after its material update. */
+static inline fullt tl_first_piola(real rho0_over_rho, real pressure, symt deviatoric_stress,
+                                   real f[3][3], real c[3][3])
+{
+    real sigma[3][3], f_inv[3][3], f_inv_t[3][3], c_t[3][3], p[3][3], a[3][3];
+    total_stress(pressure, deviatoric_stress, sigma);
+    matrix_invert_or_identity(f, f_inv);
+#pragma unroll
+    for (int r = 0; r < 3; ++r)
+#pragma unroll
+        for (int q = 0; q < 3; ++q) {
+            f_inv_t[r][q] = f_inv[q][r];
+            c_t[r][q] = c[q][r];
+        }
+    matrix_product(sigma, f_inv_t, p);
+    matrix_product(p, c_t, a);
+#pragma unroll
+    for (int r = 0; r < 3; ++r)
+#pragma unroll
+        for (int q = 0; q < 3; ++q)
+            a[r][q] *= rho0_over_rho;
+    return fullt_store(a);
+}
+
 /* The end of tl_deformation for one particle: F^(n+1) = (sum_x) C_i +
- * dt dF/dt with dF/dt = (sum_w) C_i, and L = dF/dt F_mid^-1. */
+ * dt dF/dt with dF/dt = (sum_w) C_i, L = dF/dt F_mid^-1, the material
+ * update with L (material.cl) and A^(n+1) for the next step's momentum.
+ * It writes only particle i's own state, none of what tl_deformation
+ * reads of the neighbours. */
 static inline void tl_deformation_finish(
     int i, real sum_x[3][3], real sum_w[3][3], const real dt, __global const symt *restrict csph,
-    __global const real *restrict rho, __global const int *restrict material,
-    __constant const struct sph_material *materials, __global fullt *restrict velocity_gradient,
-    __global real *restrict density_rate, __global fullt *restrict deformation_gradient)
+    __global real *restrict rho, __global const int *restrict material,
+    __global const int *restrict flags, __global const vec *restrict pos,
+    __global const vec *restrict vel_half, __constant const struct sph_material *materials,
+    __constant const struct sph_run_params *run, __global fullt *restrict deformation_gradient,
+    __global fullt *restrict first_piola, MATERIAL_STATE_ARGS)
 {
     real c[3][3], f[3][3], f_rate[3][3], f_mid[3][3], f_mid_inv[3][3], l[3][3];
     symt_load(csph[i], c);
@@ -118,13 +150,14 @@ static inline void tl_deformation_finish(
 #ifdef SPH_PLANE_STRESS
     /* sigma_zz = 0 needs eps_zz rate = -nu/(1-nu) (eps_xx + eps_yy) (Hooke) */
     divergence *= (real)1 - materials[material[i]].plane_stress_nu;
-#else
-    (void)material;
-    (void)materials;
 #endif
-    velocity_gradient[i] = fullt_store(l);
-    density_rate[i] = -rho[i] * divergence;
     deformation_gradient[i] = fullt_store(f);
+    const real rho_new =
+        material_update_particle(i, l, -rho[i] * divergence, dt, rho, material, flags, pos,
+                                 vel_half, materials, run, MATERIAL_STATE);
+    rho[i] = rho_new;
+    first_piola[i] = tl_first_piola(materials[material[i]].density / rho_new, pressure[i],
+                                    deviatoric_stress[i], f, c);
 }
 
 /* F^n from the positions x^n, and its rate from the motion of this step,
@@ -133,18 +166,18 @@ static inline void tl_deformation_finish(
  * x^(n+1). The material update gets L = dF/dt (F^n + dt/2 dF/dt)^-1, the
  * mid-step velocity gradient. One work-item per lane block
  * (kernels/lanes.cl); the blocks walk the reference grid.
- * reads: pos, pos0, vel_half, xsph_velocity, mass, rho, material, csph;
- * writes: velocity_gradient, density_rate, deformation_gradient (F^(n+1)). */
+ * reads: pos, pos0, vel_half, xsph_velocity, mass, rho, material, flags,
+ * csph, energy_rate; writes: deformation_gradient (F^(n+1)), rho, first_piola;
+ * updates: the material state (MATERIAL_STATE_ARGS). */
 __kernel void
 tl_deformation(__global const vec *restrict pos, __global const vec *restrict pos0,
                __global const vec *restrict vel_half, __global const vec *restrict xsph_velocity,
-               __global const real *restrict mass, __global const real *restrict rho,
+               __global const real *restrict mass, __global real *restrict rho,
                __global const int *restrict material, __global const int *restrict flags, GRID_ARGS,
                __constant const struct sph_material *materials,
                __constant const struct sph_run_params *run, __global const symt *restrict csph,
-               const real dt, __global fullt *restrict velocity_gradient,
-               __global real *restrict density_rate, __global fullt *restrict deformation_gradient,
-               const int n)
+               const real dt, __global fullt *restrict deformation_gradient,
+               __global fullt *restrict first_piola, MATERIAL_STATE_ARGS, const int n)
 {
     struct lane_block b;
     if (!lane_block_setup(&b, flags, sort_keys, grid_dims, n))
@@ -185,52 +218,9 @@ tl_deformation(__global const vec *restrict pos, __global const vec *restrict po
         real sx[3][3], sw[3][3];
         tensor_lane(sum_x, l, sx);
         tensor_lane(sum_w, l, sw);
-        tl_deformation_finish(b.first + l, sx, sw, dt, csph, rho, material, materials,
-                              velocity_gradient, density_rate, deformation_gradient);
+        tl_deformation_finish(b.first + l, sx, sw, dt, csph, rho, material, flags, pos, vel_half,
+                              materials, run, deformation_gradient, first_piola, MATERIAL_STATE);
     }
-}
-
-/* A = P C^T with P = J sigma F^-T, J = rho0 / rho (the density carries the
- * out-of-plane stretch in plane stress, so J is the volume ratio of the
- * slice). reads: rho, pressure, deviatoric_stress, deformation_gradient,
- * csph, material; writes: first_piola (A). */
-__kernel void tl_first_piola(__global const real *restrict rho,
-                             __global const real *restrict pressure,
-                             __global const symt *restrict deviatoric_stress,
-                             __global const fullt *restrict deformation_gradient,
-                             __global const symt *restrict csph,
-                             __global const int *restrict material,
-                             __constant const struct sph_material *materials,
-                             __global fullt *restrict first_piola, const int n)
-{
-    const int i = get_global_id(0);
-    if (i >= n)
-        return;
-    real sigma[3][3], f[3][3], f_inv[3][3], f_inv_t[3][3], c_t[3][3], p[3][3], a[3][3];
-    total_stress(pressure[i], deviatoric_stress[i], sigma);
-    fullt_load(deformation_gradient[i], f);
-    matrix_invert_or_identity(f, f_inv);
-    symt_load(csph[i], c_t);
-#pragma unroll
-    for (int r = 0; r < 3; ++r)
-#pragma unroll
-        for (int q = 0; q < 3; ++q) {
-            f_inv_t[r][q] = f_inv[q][r];
-            if (r < q) {
-                const real t = c_t[r][q];
-                c_t[r][q] = c_t[q][r];
-                c_t[q][r] = t;
-            }
-        }
-    const real volume_ratio = materials[material[i]].density / rho[i];
-    matrix_product(sigma, f_inv_t, p);
-    matrix_product(p, c_t, a);
-#pragma unroll
-    for (int r = 0; r < 3; ++r)
-#pragma unroll
-        for (int q = 0; q < 3; ++q)
-            a[r][q] *= volume_ratio;
-    first_piola[i] = fullt_store(a);
 }
 
 /* What tl_momentum holds of its own particles, one lane each. */
