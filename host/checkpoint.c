@@ -217,14 +217,7 @@ static void transfer(struct solver *s, struct checkpoint *k, const char *name, c
  * repeat: made here at the checkpoint's size. */
 static void make_cell_buffers(struct solver *s, struct checkpoint *k)
 {
-    const size_t bytes = checkpoint_size(k, "cell_start");
-    cl_mem *cells[] = {&s->cell_start, &s->cell_end, &s->cell_level};
-    for (int c = 0; c < 3; ++c) {
-        if (*cells[c])
-            clReleaseMemObject(*cells[c]), *cells[c] = NULL;
-        if (c < 2 || s->graded)
-            *cells[c] = solver_create_buffer(s, bytes);
-    }
+    solver_make_cell_buffers(s, checkpoint_size(k, "cell_start"));
 }
 
 /* Every persistent field in use (the n slots of particles and ghosts) and

@@ -124,7 +124,8 @@ struct kernels {
     cl_kernel tl_correction, tl_deformation, tl_momentum;
     cl_kernel health;
     cl_kernel projectile_contact, projectile_advance, projectile_cavity;
-    cl_kernel neighbour_reach, cell_max_level, apply_reach; /* graded lattices only */
+    cl_kernel neighbour_reach, cell_max_level, coarser_seed, coarser_spread,
+        apply_reach; /* graded */
 };
 
 /* The rigid projectile (host/ballistics.c, kernels/projectile.cl). */
@@ -183,6 +184,7 @@ struct solver {
     struct ghosts ghosts;
     int total_lagrangian;        /* numerics.formulation; the grid is then sorted once */
     int graded;                  /* some body has a graded lattice (SPH_GRADED) */
+    int coarsest_level;          /* of the graded bodies (solver_case_coarsest_level) */
     int lanes;                   /* particles per work-item of passes 1 and 2 (solver_lanes) */
     int csph, artificial_stress; /* the corrections in use: their fields exist */
     int viscosity;               /* some material has a physical viscosity */
@@ -194,7 +196,10 @@ struct solver {
     cl_mem gather_spare; /* one field of the largest element: the gather target */
     cl_mem sort_keys, cell_start, cell_end, partials, bounds_partials, materials, run_params;
     cl_mem cell_level; /* graded lattices: the coarsest level in each cell */
-    cl_mem walls;      /* struct sph_wall[wall_count] (at least one entry's worth) */
+    /* graded lattices, scratch of each sort: per cell, the levels L with a
+     * coarser cell in the window a particle of level L searches (bit L) */
+    cl_mem cell_coarser[2];
+    cl_mem walls; /* struct sph_wall[wall_count] (at least one entry's worth) */
     int wall_count;
     int reduce_groups;
     struct grid grid;
@@ -221,6 +226,11 @@ int solver_lanes(const struct sph_case *c);
 void solver_choose_loop(struct sph_case *c, const struct sph_device *dev);
 /* Whether some body of the case has a graded lattice (SPH_GRADED). */
 int solver_case_graded(const struct sph_case *c);
+/* (Re)makes the cell buffers of `bytes` each: cell ranges, and on graded
+ * lattices the level scratch (host/step.c). */
+void solver_make_cell_buffers(struct solver *s, size_t bytes);
+/* The coarsest level of the case's graded bodies (spacing 2^level dx), 0 without. */
+int solver_case_coarsest_level(const struct sph_case *c);
 /* What a solver takes from the case before any buffer: dimension,
  * precision, the options that decide its fields, the element sizes. */
 void solver_configure(struct solver *s, const struct sph_case *c);

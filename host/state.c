@@ -33,6 +33,15 @@ size_t solver_case_bytes_per_particle(const struct sph_case *c)
     return solver_bytes_per_particle(&s);
 }
 
+int solver_case_coarsest_level(const struct sph_case *c)
+{
+    int coarsest = 0;
+    for (int b = 0; b < c->body_count; ++b)
+        if (c->bodies[b].grading.enabled && c->bodies[b].grading.levels > coarsest)
+            coarsest = c->bodies[b].grading.levels;
+    return coarsest;
+}
+
 int solver_case_graded(const struct sph_case *c)
 {
     int graded = 0;
@@ -430,6 +439,8 @@ void solver_release_buffers(struct solver *s)
     release(&s->sort_keys);
     release(&s->cell_start);
     release(&s->cell_level);
+    release(&s->cell_coarser[0]);
+    release(&s->cell_coarser[1]);
     release(&s->cell_end);
     release(&s->partials);
     release(&s->bounds_partials);

@@ -38,6 +38,8 @@ static void step_kernels(struct solver *s, int make)
         {&k->health, "health_indicators", 0},
         {&k->neighbour_reach, s->graded ? "grid_neighbour_reach" : NULL, 0},
         {&k->cell_max_level, s->graded ? "grid_cell_max_level" : NULL, 0},
+        {&k->coarser_seed, s->graded ? "grid_coarser_seed" : NULL, 0},
+        {&k->coarser_spread, s->graded ? "grid_coarser_spread" : NULL, 0},
         {&k->apply_reach, s->graded ? "grid_apply_reach" : NULL, 0},
     };
     solver_kernels(s, list, (int)(sizeof list / sizeof list[0]), make);
@@ -95,6 +97,7 @@ int solver_create(struct solver *s, struct sph_device *dev, const struct sph_cas
     s->n = scene->count;
     solver_configure(s, c);
     s->graded = solver_case_graded(c);
+    s->coarsest_level = solver_case_coarsest_level(c);
     s->dx = c->numerics.dx;
     s->reduce_groups = 64;
     s->skin = SPH_GRID_SKIN;
@@ -175,18 +178,22 @@ static int layout_grid(struct solver *s, char *error, size_t error_size)
     g->cell_count = g->dims[0] * g->dims[1] * g->dims[2];
     g->dims4 = (cl_int4){{g->dims[0], g->dims[1], g->dims[2], 0}};
     if (g->cell_count > g->cell_capacity) {
-        if (s->cell_start)
-            clReleaseMemObject(s->cell_start), clReleaseMemObject(s->cell_end);
-        if (s->cell_level)
-            clReleaseMemObject(s->cell_level), s->cell_level = NULL;
         g->cell_capacity = g->cell_count + g->cell_count / 4;
-        const size_t bytes = sizeof(cl_int) * (size_t)g->cell_capacity;
-        s->cell_start = solver_create_buffer(s, bytes);
-        s->cell_end = solver_create_buffer(s, bytes);
-        if (s->graded)
-            s->cell_level = solver_create_buffer(s, bytes);
+        solver_make_cell_buffers(s, sizeof(cl_int) * (size_t)g->cell_capacity);
     }
     return 0;
+}
+
+void solver_make_cell_buffers(struct solver *s, size_t bytes)
+{
+    cl_mem *cells[] = {&s->cell_start, &s->cell_end, &s->cell_level, &s->cell_coarser[0],
+                       &s->cell_coarser[1]};
+    for (int c = 0; c < 5; ++c) {
+        if (*cells[c])
+            clReleaseMemObject(*cells[c]), *cells[c] = NULL;
+        if (c < 2 || s->graded) /* the level buffers: graded lattices only */
+            *cells[c] = solver_create_buffer(s, bytes);
+    }
 }
 
 static void sort_keys(struct solver *s)
@@ -211,6 +218,33 @@ static void cell_ranges(struct solver *s)
     solver_launch(s, s->k.cell_ranges, (size_t)s->n, 0);
 }
 
+/* Graded lattices: each particle's search reach from the levels about it
+ * (kernels/grid.cl, "Graded lattices"). */
+static void graded_reach(struct solver *s)
+{
+    struct real_arg a_skin;
+    const cl_int cells = s->grid.cell_count;
+    SET_ARGS(s, s->k.cell_max_level, INT("cells", cells));
+    solver_launch(s, s->k.cell_max_level, (size_t)cells, 0);
+    SET_ARGS(s, s->k.coarser_seed, MEM("coarser_out", s->cell_coarser[0]), INT("cells", cells));
+    solver_launch(s, s->k.coarser_seed, (size_t)cells, 0);
+    for (int axis = 0; axis < s->dim; ++axis) {
+        const cl_int rows = cells / s->grid.dims[axis]; /* of cells along the axis */
+        SET_ARGS(s, s->k.coarser_spread, MEM("coarser_in", s->cell_coarser[axis % 2]),
+                 MEM("coarser_out", s->cell_coarser[(axis + 1) % 2]), INT("axis", axis),
+                 real_value(s, &a_skin, "skin", s->skin), INT("coarsest", s->coarsest_level),
+                 INT("rows", rows));
+        solver_launch(s, s->k.coarser_spread, (size_t)rows, 0);
+    }
+    /* the gather spare (free after the gathers) holds the reaches */
+    SET_ARGS(s, s->k.neighbour_reach, MEM("cell_coarser", s->cell_coarser[s->dim % 2]),
+             real_value(s, &a_skin, "skin", s->skin), MEM("reach", s->gather_spare),
+             INT("n", s->n));
+    solver_launch(s, s->k.neighbour_reach, (size_t)s->n, 0);
+    SET_ARGS(s, s->k.apply_reach, MEM("reach", s->gather_spare), INT("n", s->n));
+    solver_launch(s, s->k.apply_reach, (size_t)s->n, 0);
+}
+
 int solver_sort(struct solver *s, char *error, size_t error_size)
 {
     if (solver_ghosts_rebuild(s, error, error_size) || layout_grid(s, error, error_size))
@@ -220,18 +254,8 @@ int solver_sort(struct solver *s, char *error, size_t error_size)
     solver_gather_persistent(s);
     s->moved_since_sort = 0;
     solver_ghosts_reindex(s);
-    if (s->graded) {
-        struct real_arg a_skin;
-        const cl_int cells = s->grid.cell_count;
-        SET_ARGS(s, s->k.cell_max_level, INT("cells", cells));
-        solver_launch(s, s->k.cell_max_level, (size_t)cells, 0);
-        /* the gather spare (free after the gathers) holds the reaches */
-        SET_ARGS(s, s->k.neighbour_reach, real_value(s, &a_skin, "skin", s->skin),
-                 MEM("reach", s->gather_spare), INT("n", s->n));
-        solver_launch(s, s->k.neighbour_reach, (size_t)s->n, 0);
-        SET_ARGS(s, s->k.apply_reach, MEM("reach", s->gather_spare), INT("n", s->n));
-        solver_launch(s, s->k.apply_reach, (size_t)s->n, 0);
-    }
+    if (s->graded)
+        graded_reach(s);
     return 0;
 }
 

@@ -160,11 +160,13 @@ __kernel void grid_neighbour_list(__global const vec *restrict pos, __global con
  * every sort, since material moves across the levels (a cavity pushes
  * fine particles outwards).
  *
- * Three passes, so that no work-item reads a flag another one writes:
+ * In passes, so that no work-item reads a flag another one writes:
  * grid_cell_max_level gives each cell the coarsest level it holds,
- * grid_neighbour_reach writes each particle's reach to `reach` (looking at
- * particles only in the cells of its window that hold a coarser level;
- * most particles, deep inside one level, look at no particle at all), and
+ * grid_coarser_seed and grid_coarser_spread (once per axis) mark the cells
+ * whose window holds a coarser cell, grid_neighbour_reach writes each
+ * particle's reach to `reach` (looking at particles only in the cells of
+ * its window that hold a coarser level, and only where the marks say there
+ * is one; most particles, deep inside one level, look at nothing), and
  * grid_apply_reach puts it into the flags. */
 static inline int reach_cells(real h_over_h0, real skin)
 {
@@ -187,10 +189,78 @@ __kernel void grid_cell_max_level(__global const int *restrict flags,
     cell_level[c] = level;
 }
 
-/* reads pos, flags, cell_level; writes reach */
+/* The cells a particle of `level` searches for a coarser one, each way
+ * along `axis` (0, 1, 2): grid_neighbour_reach's window. */
+static inline int coarser_window(int level, real skin, int axis)
+{
+    return (axis == 2 ? GRID_DZ : 1) * reach_cells((real)1.5 * (real)(1 << level), skin);
+}
+
+/* Which levels each cell holds something coarser than: bit L set where
+ * the cell's coarsest level is above L. reads cell_level; writes
+ * coarser_out. */
+__kernel void grid_coarser_seed(__global const int *restrict cell_level,
+                                __global int *restrict coarser_out, const int cells)
+{
+    const int c = get_global_id(0);
+    if (c < cells)
+        coarser_out[c] = cell_level[c] > 0 ? (1 << cell_level[c]) - 1 : 0;
+}
+
+/* ... spread along one axis: bit L of a cell is set where one within
+ * coarser_window(L) cells along `axis` had it. Run along each axis in turn
+ * it gives, per cell, the levels L for which grid_neighbour_reach's window
+ * about the cell holds a coarser cell (the window is a box, so the test
+ * separates); a particle whose level's bit is clear has nothing coarser to
+ * look for, which is most of them (every particle of the coarsest level,
+ * whose window is the widest). One work-item per row of cells along the
+ * axis, a sliding count of the marked cells in each level's window (two
+ * loads per level and cell). reads coarser_in; writes coarser_out. */
+__kernel void grid_coarser_spread(__global const int *restrict coarser_in,
+                                  __global int *restrict coarser_out, const int4 grid_dims,
+                                  const int axis, const real skin, const int coarsest,
+                                  const int rows)
+{
+    const int row = get_global_id(0);
+    if (row >= rows)
+        return;
+    /* the row's first cell and the step along it */
+    int base, stride, extent;
+    if (axis == 0) {
+        base = row * grid_dims.x, stride = 1, extent = grid_dims.x;
+    } else if (axis == 1) {
+        base = (row / grid_dims.x) * grid_dims.x * grid_dims.y + row % grid_dims.x;
+        stride = grid_dims.x, extent = grid_dims.y;
+    } else {
+        base = row, stride = grid_dims.x * grid_dims.y, extent = grid_dims.z;
+    }
+    int window[SPH_LEVEL_MASK + 1], count[SPH_LEVEL_MASK + 1], widest = 0;
+    for (int level = 0; level < coarsest; ++level) {
+        window[level] = coarser_window(level, skin, axis);
+        count[level] = 0;
+        widest = max(widest, window[level]);
+    }
+    /* count[L]: marked cells in [k - window[L], k + window[L]] */
+    for (int k = -widest; k < extent; ++k) {
+        int bits = 0;
+        for (int level = 0; level < coarsest; ++level) {
+            const int enter = k + window[level], leave = k - window[level] - 1;
+            if (enter >= 0 && enter < extent)
+                count[level] += (coarser_in[base + enter * stride] >> level) & 1;
+            if (leave >= 0)
+                count[level] -= (coarser_in[base + leave * stride] >> level) & 1;
+            bits |= count[level] > 0 ? 1 << level : 0;
+        }
+        if (k >= 0)
+            coarser_out[base + k * stride] = bits;
+    }
+}
+
+/* reads pos, flags, cell_level, cell_coarser; writes reach */
 __kernel void grid_neighbour_reach(__global const vec *restrict pos,
                                    __global const int *restrict flags, GRID_ARGS,
                                    __global const int *restrict cell_level,
+                                   __global const int *restrict cell_coarser,
                                    __constant const struct sph_run_params *run, const real skin,
                                    __global int *restrict reach, const int n)
 {
@@ -200,6 +270,12 @@ __kernel void grid_neighbour_reach(__global const vec *restrict pos,
     const int flag = flags[i];
     const int level = SPH_LEVEL_OF(flag);
     const real scale = spacing_scale(flag);
+#ifndef SPH_REACH_FULL_SCAN /* the test's reference (tests/check_reach.py) */
+    if (!((cell_coarser[(int)(sort_keys[i] >> 32)] >> level) & 1)) {
+        reach[i] = reach_cells(scale, skin); /* no coarser cell in the window */
+        return;
+    }
+#endif
     const int wide = reach_cells((real)1.5 * scale, skin);
     const real limit = (real)1.5 * run->support * scale + skin * run->support;
     const vec xi = pos[i];
