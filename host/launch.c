@@ -239,19 +239,29 @@ void solver_launch(struct solver *s, cl_kernel k, size_t global, size_t local)
         profile_record(k, event);
 }
 
-void solver_bitonic_sort(struct solver *s)
+void solver_sort_keys(struct solver *s, int buckets)
 {
-    /* bitonic network over the next power of two N >= n, log2(N) (log2(N)
-     * + 1) / 2 compare-exchange stages, the keys past n virtual
-     * (kernels/grid.cl) */
-    const cl_uint n = (cl_uint)s->n;
-    for (cl_uint k = 2; k / 2 < n; k <<= 1)
-        for (cl_uint j = k >> 1; j > 0; j >>= 1) {
-            const cl_int flip = j == k >> 1;
-            SET_ARGS(s, s->k.bitonic_step, MEM("keys", s->sort_keys), RAW("j", sizeof j, &j),
-                     INT("flip", flip), RAW("n", sizeof n, &n));
-            solver_launch(s, s->k.bitonic_step, (size_t)s->n, 0);
-        }
+    if (buckets > s->sort_bucket_capacity) {
+        if (s->sort_buckets)
+            clReleaseMemObject(s->sort_buckets), s->sort_buckets = NULL;
+        s->sort_bucket_capacity = buckets + buckets / 4;
+        s->sort_buckets = solver_create_buffer(s, sizeof(cl_int) * (size_t)s->sort_bucket_capacity);
+    }
+    const cl_int zero = 0;
+    /* the gather spare (8 B or more per slot) is free until the gathers */
+    SET_ARGS(s, s->k.fill_int, MEM("a", s->sort_buckets), INT("value", zero), INT("n", buckets));
+    solver_launch(s, s->k.fill_int, (size_t)buckets, 0);
+    SET_ARGS(s, s->k.bucket_count, MEM("keys", s->sort_keys), MEM("bucket", s->sort_buckets),
+             INT("n", s->n));
+    solver_launch(s, s->k.bucket_count, (size_t)s->n, 0);
+    SET_ARGS(s, s->k.bucket_scan, MEM("bucket", s->sort_buckets), INT("buckets", buckets));
+    solver_launch(s, s->k.bucket_scan, 1, 0);
+    SET_ARGS(s, s->k.bucket_scatter, MEM("keys", s->sort_keys), MEM("bucket", s->sort_buckets),
+             MEM("scattered", s->gather_spare), INT("n", s->n));
+    solver_launch(s, s->k.bucket_scatter, (size_t)s->n, 0);
+    SET_ARGS(s, s->k.bucket_order, MEM("scattered", s->gather_spare),
+             MEM("bucket", s->sort_buckets), MEM("keys", s->sort_keys), INT("buckets", buckets));
+    solver_launch(s, s->k.bucket_order, (size_t)buckets, 0);
 }
 
 void solver_gather_persistent(struct solver *s)

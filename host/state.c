@@ -439,6 +439,7 @@ void solver_release_buffers(struct solver *s)
     release(&s->sort_keys);
     release(&s->cell_start);
     release(&s->cell_level);
+    release(&s->sort_buckets);
     release(&s->cell_coarser[0]);
     release(&s->cell_coarser[1]);
     release(&s->cell_end);

@@ -20,7 +20,10 @@ static void step_kernels(struct solver *s, int make)
     struct kernels *k = &s->k;
     const struct kernel_slot list[] = {
         {&k->cell_keys, "grid_cell_keys", 0},
-        {&k->bitonic_step, "grid_bitonic_step", 0},
+        {&k->bucket_count, "grid_bucket_count", 0},
+        {&k->bucket_scan, "grid_bucket_scan", 0},
+        {&k->bucket_scatter, "grid_bucket_scatter", 0},
+        {&k->bucket_order, "grid_bucket_order", 0},
         {&k->fill_int, "grid_fill_int", 0},
         {&k->cell_ranges, "grid_cell_ranges", 0},
         {&k->bounds, "grid_bounds", 0},
@@ -203,7 +206,7 @@ static void sort_keys(struct solver *s)
     SET_ARGS(s, s->k.cell_keys, INT("n", s->n), real4_value(s, &origin, "origin", s->grid.origin),
              real_value(s, &inv_cell, "inv_cell_size", 1.0 / s->grid.cell_size));
     solver_launch(s, s->k.cell_keys, (size_t)s->n, 0);
-    solver_bitonic_sort(s);
+    solver_sort_keys(s, s->grid.cell_count);
 }
 
 static void cell_ranges(struct solver *s)

@@ -1,9 +1,10 @@
 /*
- * Neighbour grid: cell keys, a bitonic sort of (cell, index) keys on the
+ * Neighbour grid: cell keys, a counting sort of (cell, index) keys on the
  * device, cell ranges, and the gather that reorders particle fields.
  *
- * Keys are (cell << 32) | original slot, so the sort is a total order and
- * the result is deterministic (no atomics).
+ * Keys are (cell << 32) | original slot, so the sorted order is a total
+ * order and the result is deterministic (the sort's atomic increments only
+ * place keys within a bucket, which it then orders: grid_bucket_order).
  */
 
 /* reads pos; writes sort_keys. */
@@ -48,23 +49,75 @@ grid_bounds(__global const vec *restrict pos, __global real *restrict partials, 
     work_group_reduce(&acc[0][0], box, op, 6, partials);
 }
 
-/* One compare-exchange stage of a bitonic sort of n keys, every exchange
- * ascending: a merge of blocks of 2j first compares each key with its
- * mirror in the block (flip: partner i ^ (2j - 1)), then halves (partner
- * i ^ j). With no descending exchange, the keys a power-of-two network
- * would have past n act as +infinity that never moves, so they need no
- * storage: a partner at or past n is skipped. */
-__kernel void grid_bitonic_step(__global ulong *restrict keys, const uint j, const int flip,
-                                const uint n)
+/* A counting sort of 64-bit keys by their high half (a cell, or an id at
+ * the ghosts' compaction), every high half below `buckets`; host/launch.c
+ * solver_sort_keys runs the passes. The keys of one sort are nearly in
+ * order already (particles keep their cell between sorts), but a counting
+ * sort does not care: it takes O(n + buckets) work where a comparison
+ * network took O(n log^2 n) (a bitonic sort of 1.36M keys: 231 stages,
+ * about 350 ms on two cores; docs/performance.md). The scatter takes its
+ * slots with atomic increments, so within a bucket the keys land in an
+ * order the device's scheduling picks; grid_bucket_order then sorts each
+ * bucket by the whole key (the low half is the slot, unique), so the
+ * result is the one total order of the keys: deterministic, as the
+ * comparison sort was. */
+
+/* counts the keys per bucket (bucket zeroed before). reads keys; updates
+ * bucket. */
+__kernel void grid_bucket_count(__global const ulong *restrict keys, __global int *restrict bucket,
+                                const int n)
 {
-    const uint i = get_global_id(0);
-    const uint partner = flip ? i ^ (2 * j - 1) : i ^ j;
-    if (partner <= i || partner >= n)
+    const int i = get_global_id(0);
+    if (i < n)
+        atomic_inc(&bucket[(int)(keys[i] >> 32)]);
+}
+
+/* counts to the first slot of each bucket (exclusive prefix sum), by one
+ * work-item: a pass over the buckets, a few ms for millions of cells.
+ * updates bucket. */
+__kernel void grid_bucket_scan(__global int *restrict bucket, const int buckets)
+{
+    if (get_global_id(0) != 0)
         return;
-    const ulong a = keys[i], b = keys[partner];
-    if (a > b) {
-        keys[i] = b;
-        keys[partner] = a;
+    int sum = 0;
+    for (int b = 0; b < buckets; ++b) {
+        const int count = bucket[b];
+        bucket[b] = sum;
+        sum += count;
+    }
+}
+
+/* each key to a free slot of its bucket; after it bucket[b] is the end of
+ * bucket b (the start of b + 1). reads keys; updates bucket; writes
+ * scattered. */
+__kernel void grid_bucket_scatter(__global const ulong *restrict keys,
+                                  __global int *restrict bucket, __global ulong *restrict scattered,
+                                  const int n)
+{
+    const int i = get_global_id(0);
+    if (i < n) {
+        const ulong key = keys[i];
+        scattered[atomic_inc(&bucket[(int)(key >> 32)])] = key;
+    }
+}
+
+/* each bucket's keys back into `keys`, in order (an insertion sort: a
+ * bucket holds a cell's few tens of particles). reads scattered, bucket;
+ * writes keys. */
+__kernel void grid_bucket_order(__global const ulong *restrict scattered,
+                                __global const int *restrict bucket, __global ulong *restrict keys,
+                                const int buckets)
+{
+    const int b = get_global_id(0);
+    if (b >= buckets)
+        return;
+    const int first = b > 0 ? bucket[b - 1] : 0, last = bucket[b];
+    for (int i = first; i < last; ++i) {
+        const ulong key = scattered[i];
+        int k = i;
+        for (; k > first && keys[k - 1] > key; --k)
+            keys[k] = keys[k - 1];
+        keys[k] = key;
     }
 }
 

@@ -219,9 +219,9 @@ static void run_faces(int dim, int per_axis)
     free(xyz);
 }
 
-/* The sort itself: keys in order and a permutation of the slots, for
- * counts that are and are not powers of two (the bitonic network keeps no
- * padding past n: kernels/grid.cl). */
+/* The sort itself (kernels/grid.cl, a counting sort by cell, each cell
+ * ordered by slot): keys in order and a permutation of the slots, for
+ * counts from one key to a few thousand. */
 static void test_sort_any_count(void **state)
 {
     (void)state;
