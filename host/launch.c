@@ -239,23 +239,35 @@ void solver_launch(struct solver *s, cl_kernel k, size_t global, size_t local)
         profile_record(k, event);
 }
 
+/* kernels/grid.cl SPH_SCAN_BLOCK: buckets per block of the prefix sum */
+#define SCAN_BLOCK 256
+
 void solver_sort_keys(struct solver *s, int buckets)
 {
     if (buckets > s->sort_bucket_capacity) {
-        if (s->sort_buckets)
-            clReleaseMemObject(s->sort_buckets), s->sort_buckets = NULL;
+        solver_release_buffer(&s->sort_buckets);
+        solver_release_buffer(&s->sort_block_totals);
         s->sort_bucket_capacity = buckets + buckets / 4;
+        const size_t blocks = (size_t)s->sort_bucket_capacity / SCAN_BLOCK + 1;
         s->sort_buckets = solver_create_buffer(s, sizeof(cl_int) * (size_t)s->sort_bucket_capacity);
+        s->sort_block_totals = solver_create_buffer(s, sizeof(cl_int) * blocks);
     }
-    const cl_int zero = 0;
+    const cl_int zero = 0, blocks = (buckets + SCAN_BLOCK - 1) / SCAN_BLOCK;
     /* the gather spare (8 B or more per slot) is free until the gathers */
     SET_ARGS(s, s->k.fill_int, MEM("a", s->sort_buckets), INT("value", zero), INT("n", buckets));
     solver_launch(s, s->k.fill_int, (size_t)buckets, 0);
     SET_ARGS(s, s->k.bucket_count, MEM("keys", s->sort_keys), MEM("bucket", s->sort_buckets),
              INT("n", s->n));
     solver_launch(s, s->k.bucket_count, (size_t)s->n, 0);
-    SET_ARGS(s, s->k.bucket_scan, MEM("bucket", s->sort_buckets), INT("buckets", buckets));
-    solver_launch(s, s->k.bucket_scan, 1, 0);
+    SET_ARGS(s, s->k.bucket_block_total, MEM("bucket", s->sort_buckets),
+             MEM("block_total", s->sort_block_totals), INT("buckets", buckets));
+    solver_launch(s, s->k.bucket_block_total, (size_t)blocks, 0);
+    SET_ARGS(s, s->k.bucket_block_offsets, MEM("block_total", s->sort_block_totals),
+             INT("blocks", blocks));
+    solver_launch(s, s->k.bucket_block_offsets, 1, 0);
+    SET_ARGS(s, s->k.bucket_block_scan, MEM("bucket", s->sort_buckets),
+             MEM("block_total", s->sort_block_totals), INT("buckets", buckets));
+    solver_launch(s, s->k.bucket_block_scan, (size_t)blocks, 0);
     SET_ARGS(s, s->k.bucket_scatter, MEM("keys", s->sort_keys), MEM("bucket", s->sort_buckets),
              MEM("scattered", s->gather_spare), INT("n", s->n));
     solver_launch(s, s->k.bucket_scatter, (size_t)s->n, 0);

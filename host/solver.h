@@ -119,7 +119,8 @@ struct ghosts {
 
 struct kernels {
     cl_kernel cell_keys, fill_int, cell_ranges, bounds;
-    cl_kernel bucket_count, bucket_scan, bucket_scatter, bucket_order; /* the sort */
+    cl_kernel bucket_count, bucket_block_total, bucket_block_offsets, bucket_block_scan,
+        bucket_scatter, bucket_order; /* the sort */
     cl_kernel gather[ELEM_COUNT], copy[ELEM_COUNT];
     cl_kernel pass1, pass2, kick, drift, reduce, neighbour_count;
     cl_kernel tl_correction, tl_deformation, tl_momentum;
@@ -196,8 +197,8 @@ struct solver {
     cl_mem field[FIELD_COUNT];
     cl_mem gather_spare; /* one field of the largest element: the gather target */
     cl_mem sort_keys, cell_start, cell_end, partials, bounds_partials, materials, run_params;
-    cl_mem cell_level;   /* graded lattices: the coarsest level in each cell */
-    cl_mem sort_buckets; /* the sort's count per bucket (solver_sort_keys) */
+    cl_mem cell_level;                      /* graded lattices: the coarsest level in each cell */
+    cl_mem sort_buckets, sort_block_totals; /* the sort's counts (solver_sort_keys) */
     int sort_bucket_capacity;
     /* graded lattices, scratch of each sort: per cell, the levels L with a
      * coarser cell in the window a particle of level L searches (bit L) */
@@ -359,6 +360,8 @@ struct kernel_slot {
 };
 /* Makes (make != 0) or releases the kernels of a slot list. */
 void solver_kernels(struct solver *s, const struct kernel_slot *slots, int count, int make);
+/* Releases a buffer (if any) and clears its handle. */
+void solver_release_buffer(cl_mem *m);
 /* Sorts sort_keys (n of them) by their high half, every one below
  * `buckets`, then the slot (kernels/grid.cl, counting sort). */
 void solver_sort_keys(struct solver *s, int buckets);

@@ -424,7 +424,7 @@ void solver_upload_constants(struct solver *s, const struct sph_case *c)
     upload_walls(s, c);
 }
 
-static void release(cl_mem *m)
+void solver_release_buffer(cl_mem *m)
 {
     if (*m)
         clReleaseMemObject(*m);
@@ -434,20 +434,21 @@ static void release(cl_mem *m)
 void solver_release_buffers(struct solver *s)
 {
     for (int f = 0; f < FIELD_COUNT; ++f)
-        release(&s->field[f]);
-    release(&s->gather_spare);
-    release(&s->sort_keys);
-    release(&s->cell_start);
-    release(&s->cell_level);
-    release(&s->sort_buckets);
-    release(&s->cell_coarser[0]);
-    release(&s->cell_coarser[1]);
-    release(&s->cell_end);
-    release(&s->partials);
-    release(&s->bounds_partials);
-    release(&s->materials);
-    release(&s->run_params);
-    release(&s->walls);
+        solver_release_buffer(&s->field[f]);
+    solver_release_buffer(&s->gather_spare);
+    solver_release_buffer(&s->sort_keys);
+    solver_release_buffer(&s->cell_start);
+    solver_release_buffer(&s->cell_level);
+    solver_release_buffer(&s->sort_buckets);
+    solver_release_buffer(&s->sort_block_totals);
+    solver_release_buffer(&s->cell_coarser[0]);
+    solver_release_buffer(&s->cell_coarser[1]);
+    solver_release_buffer(&s->cell_end);
+    solver_release_buffer(&s->partials);
+    solver_release_buffer(&s->bounds_partials);
+    solver_release_buffer(&s->materials);
+    solver_release_buffer(&s->run_params);
+    solver_release_buffer(&s->walls);
 }
 
 void solver_read_reals(struct solver *s, cl_mem m, size_t count, double *out)

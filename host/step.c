@@ -21,7 +21,9 @@ static void step_kernels(struct solver *s, int make)
     const struct kernel_slot list[] = {
         {&k->cell_keys, "grid_cell_keys", 0},
         {&k->bucket_count, "grid_bucket_count", 0},
-        {&k->bucket_scan, "grid_bucket_scan", 0},
+        {&k->bucket_block_total, "grid_bucket_block_total", 0},
+        {&k->bucket_block_offsets, "grid_bucket_block_offsets", 0},
+        {&k->bucket_block_scan, "grid_bucket_block_scan", 0},
         {&k->bucket_scatter, "grid_bucket_scatter", 0},
         {&k->bucket_order, "grid_bucket_order", 0},
         {&k->fill_int, "grid_fill_int", 0},
@@ -192,8 +194,7 @@ void solver_make_cell_buffers(struct solver *s, size_t bytes)
     cl_mem *cells[] = {&s->cell_start, &s->cell_end, &s->cell_level, &s->cell_coarser[0],
                        &s->cell_coarser[1]};
     for (int c = 0; c < 5; ++c) {
-        if (*cells[c])
-            clReleaseMemObject(*cells[c]), *cells[c] = NULL;
+        solver_release_buffer(cells[c]);
         if (c < 2 || s->graded) /* the level buffers: graded lattices only */
             *cells[c] = solver_create_buffer(s, bytes);
     }

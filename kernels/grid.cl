@@ -72,15 +72,47 @@ __kernel void grid_bucket_count(__global const ulong *restrict keys, __global in
         atomic_inc(&bucket[(int)(keys[i] >> 32)]);
 }
 
-/* counts to the first slot of each bucket (exclusive prefix sum), by one
- * work-item: a pass over the buckets, a few ms for millions of cells.
- * updates bucket. */
-__kernel void grid_bucket_scan(__global int *restrict bucket, const int buckets)
+/* Counts to the first slot of each bucket (an exclusive prefix sum) in
+ * three passes over blocks of SPH_SCAN_BLOCK buckets, so that no work-item
+ * walks all of them (millions of cells): each block's total, the blocks'
+ * offsets (one work-item, a few thousand blocks), each block's prefix. */
+#define SPH_SCAN_BLOCK 256
+
+/* reads bucket; writes block_total[block] */
+__kernel void grid_bucket_block_total(__global const int *restrict bucket,
+                                      __global int *restrict block_total, const int buckets)
+{
+    const int block = get_global_id(0), first = block * SPH_SCAN_BLOCK;
+    if (first >= buckets)
+        return;
+    int sum = 0;
+    for (int b = first; b < min(first + SPH_SCAN_BLOCK, buckets); ++b)
+        sum += bucket[b];
+    block_total[block] = sum;
+}
+
+/* updates block_total to each block's first slot */
+__kernel void grid_bucket_block_offsets(__global int *restrict block_total, const int blocks)
 {
     if (get_global_id(0) != 0)
         return;
     int sum = 0;
-    for (int b = 0; b < buckets; ++b) {
+    for (int k = 0; k < blocks; ++k) {
+        const int total = block_total[k];
+        block_total[k] = sum;
+        sum += total;
+    }
+}
+
+/* reads block_total; updates bucket (count -> first slot) */
+__kernel void grid_bucket_block_scan(__global int *restrict bucket,
+                                     __global const int *restrict block_total, const int buckets)
+{
+    const int block = get_global_id(0), first = block * SPH_SCAN_BLOCK;
+    if (first >= buckets)
+        return;
+    int sum = block_total[block];
+    for (int b = first; b < min(first + SPH_SCAN_BLOCK, buckets); ++b) {
         const int count = bucket[b];
         bucket[b] = sum;
         sum += count;
