@@ -241,8 +241,12 @@ static void graded_reach(struct solver *s)
         solver_launch(s, s->k.coarser_spread, (size_t)rows, 0);
     }
     /* the gather spare (free after the gathers) holds the reaches */
+    struct real4_arg a_origin;
+    struct real_arg a_cell;
     SET_ARGS(s, s->k.neighbour_reach, MEM("cell_coarser", s->cell_coarser[s->dim % 2]),
-             real_value(s, &a_skin, "skin", s->skin), MEM("reach", s->gather_spare),
+             real_value(s, &a_skin, "skin", s->skin),
+             real4_value(s, &a_origin, "origin", s->grid.origin),
+             real_value(s, &a_cell, "cell_size", s->grid.cell_size), MEM("reach", s->gather_spare),
              INT("n", s->n));
     solver_launch(s, s->k.neighbour_reach, (size_t)s->n, 0);
     SET_ARGS(s, s->k.apply_reach, MEM("reach", s->gather_spare), INT("n", s->n));

@@ -341,12 +341,30 @@ __kernel void grid_coarser_spread(__global const int *restrict coarser_in,
     }
 }
 
+/* SPH_REACH_FULL_SCAN (tests/check_reach.py's reference): every particle
+ * scans its whole window, every cell of it */
+#ifdef SPH_REACH_FULL_SCAN
+#define REACH_PRUNED 0
+#else
+#define REACH_PRUNED 1
+#endif
+
+/* How far x lies outside cell c's extent along one axis (0 inside), less a
+ * thousandth of a cell for the rounding of the cell bounds: a lower bound
+ * of the distance to any particle the cell holds. */
+static inline real gap_to_cell(real x, real origin, real cell_size, int c)
+{
+    const real lo = origin + (real)c * cell_size;
+    return fmax(fmax(lo - x, x - (lo + cell_size)) - (real)1e-3 * cell_size, (real)0);
+}
+
 /* reads pos, flags, cell_level, cell_coarser; writes reach */
 __kernel void grid_neighbour_reach(__global const vec *restrict pos,
                                    __global const int *restrict flags, GRID_ARGS,
                                    __global const int *restrict cell_level,
                                    __global const int *restrict cell_coarser,
                                    __constant const struct sph_run_params *run, const real skin,
+                                   const real4 origin, const real cell_size,
                                    __global int *restrict reach, const int n)
 {
     const int i = get_global_id(0);
@@ -355,33 +373,40 @@ __kernel void grid_neighbour_reach(__global const vec *restrict pos,
     const int flag = flags[i];
     const int level = SPH_LEVEL_OF(flag);
     const real scale = spacing_scale(flag);
-#ifndef SPH_REACH_FULL_SCAN /* the test's reference (tests/check_reach.py) */
-    if (!((cell_coarser[(int)(sort_keys[i] >> 32)] >> level) & 1)) {
+    if (REACH_PRUNED && !((cell_coarser[(int)(sort_keys[i] >> 32)] >> level) & 1)) {
         reach[i] = reach_cells(scale, skin); /* no coarser cell in the window */
         return;
     }
-#endif
     const int wide = reach_cells((real)1.5 * scale, skin);
     const real limit = (real)1.5 * run->support * scale + skin * run->support;
     const vec xi = pos[i];
     const int4 home = grid_cell_coords((int)(sort_keys[i] >> 32), grid_dims);
+    const real limit2 = limit * limit;
     bool coarser_near = false;
+    /* the window's cells, less those wholly farther than the limit (the
+     * window is a cube about a sphere of that radius) */
     for (int dz = -GRID_DZ * wide; dz <= GRID_DZ * wide && !coarser_near; ++dz) {
         const int cz = home.z + dz;
         if (cz < 0 || cz >= grid_dims.z)
             continue;
+        const real gz = SPH_DIM == 3 ? gap_to_cell(vec_get(xi, 2), origin.z, cell_size, cz) : 0;
         for (int dy = -wide; dy <= wide && !coarser_near; ++dy) {
             const int cy = home.y + dy;
             if (cy < 0 || cy >= grid_dims.y)
                 continue;
+            const real gy = gap_to_cell(xi.y, origin.y, cell_size, cy);
+            if (REACH_PRUNED && gy * gy + gz * gz >= limit2)
+                continue;
             const int row = (cz * grid_dims.y + cy) * grid_dims.x;
             for (int cx = max(home.x - wide, 0); cx <= min(home.x + wide, grid_dims.x - 1); ++cx) {
                 const int cell = row + cx;
-                if (cell_level[cell] <= level)
+                const real gx = gap_to_cell(xi.x, origin.x, cell_size, cx);
+                if (cell_level[cell] <= level ||
+                    (REACH_PRUNED && gx * gx + gy * gy + gz * gz >= limit2))
                     continue;
                 for (int j = cell_start[cell]; j < cell_end[cell] && !coarser_near; ++j) {
                     const vec d = xi - pos[j];
-                    coarser_near = SPH_LEVEL_OF(flags[j]) > level && dot(d, d) < limit * limit;
+                    coarser_near = SPH_LEVEL_OF(flags[j]) > level && dot(d, d) < limit2;
                 }
             }
         }

@@ -1,9 +1,11 @@
 #!/usr/bin/python3
-"""Graded lattices: the reach marks (grid_coarser_seed / _spread,
-kernels/grid.cl) only let particles with no coarser cell in their window
-skip the search for a coarser neighbour, so every particle's search reach
-must be the one the full search gives. Runs a case twice, as built and with
--DSPH_REACH_FULL_SCAN (every particle searches), and compares the reach bits
+"""Graded lattices: the reach pass (kernels/grid.cl) skips work that cannot
+change its answer: particles with no coarser cell in their window (the
+marks of grid_coarser_seed / _spread) do not search, and the others skip
+the cells of their window wholly beyond the search radius. So every
+particle's search reach must be the one the full search gives. Runs a case
+twice, as built and with -DSPH_REACH_FULL_SCAN (every particle searches
+every cell of its window), and compares the reach bits
 of the flags (README: flags) of every snapshot, particle by particle (by
 id); fails on any difference, or when the reaches do not differ between
 particles (a case that would not test anything).
