@@ -107,6 +107,28 @@ static inline realv artificial_viscosity(realv vr, realv r2, hreal h, realv c_me
                       vr < (real)0);
 }
 
+/* Pi_ij with the pair's coefficients: the case's alpha and beta, or with
+ * SPH_AV_SWITCH the mean of the two particles' alpha (alpha_i the lanes'
+ * own), beta in the case's ratio to it, beta_per_alpha (Morris & Monaghan
+ * 1997 take 2). Shared with the total Lagrangian form. */
+static inline realv pair_artificial_viscosity(realv vr, realv r2, hreal h, realv c_mean,
+                                              realv inv_rho_mean, realv alpha_i,
+                                              real beta_per_alpha, int j,
+                                              __global const real *restrict av_alpha,
+                                              __constant const struct sph_run_params *run)
+{
+#ifdef SPH_AV_SWITCH
+    const realv alpha_ij = (real)0.5 * (alpha_i + av_alpha[j]), beta_ij = beta_per_alpha * alpha_ij;
+#else
+    (void)alpha_i;
+    (void)beta_per_alpha;
+    (void)j;
+    (void)av_alpha;
+    const real alpha_ij = run->av_alpha, beta_ij = run->av_beta;
+#endif
+    return artificial_viscosity(vr, r2, h, c_mean, inv_rho_mean, alpha_ij, beta_ij);
+}
+
 /* XSPH's store: eps times the sum, or zero without it */
 static inline void store_xsph(__global vec *restrict xsph_velocity, int i, vec sum,
                               __constant const struct sph_run_params *run)
@@ -139,10 +161,8 @@ struct pass2_lanes_i {
 #ifdef SPH_AV_LIMITED
     realv l[3][3];
 #endif
-#ifdef SPH_AV_SWITCH
-    realv alpha;
-    real beta_per_alpha; /* the case's beta / alpha (Morris & Monaghan 1997 take 2) */
-#endif
+    realv alpha;         /* SPH_AV_SWITCH: each lane's own alpha (else unused) */
+    real beta_per_alpha; /* SPH_AV_SWITCH: the case's beta / alpha */
 };
 
 /* The neighbour's mass as the sums weigh it: m_j in the stress term of i
@@ -162,6 +182,25 @@ struct pass2_lanes_i {
 #else
 #define PAIR_MASSES(I, j) const real m_j = mass[j], m_pair = m_j, at_i = (real)1
 #endif
+
+/* The switch viscosity's per-lane alpha and the case's beta / alpha (zero
+ * without SPH_AV_SWITCH, where pair_artificial_viscosity ignores them). */
+static inline void switch_lanes(__global const real *restrict av_alpha, const struct lane_block *b,
+                                int n, __constant const struct sph_run_params *run, realv *alpha,
+                                real *beta_per_alpha)
+{
+#ifdef SPH_AV_SWITCH
+    *alpha = gather_real(av_alpha, b, n);
+    *beta_per_alpha = run->av_alpha > 0 ? run->av_beta / run->av_alpha : (real)0;
+#else
+    (void)av_alpha;
+    (void)b;
+    (void)n;
+    (void)run;
+    *alpha = (realv)0;
+    *beta_per_alpha = 0;
+#endif
+}
 
 static inline void pass2_gather(
     struct pass2_lanes_i *I, const struct lane_block *b, int n, __global const vec *restrict pos,
@@ -211,12 +250,7 @@ static inline void pass2_gather(
 #else
     (void)velocity_gradient;
 #endif
-#ifdef SPH_AV_SWITCH
-    I->alpha = gather_real(av_alpha, b, n);
-    I->beta_per_alpha = run->av_alpha > 0 ? run->av_beta / run->av_alpha : (real)0;
-#else
-    (void)av_alpha;
-#endif
+    switch_lanes(av_alpha, b, n, run, &I->alpha, &I->beta_per_alpha);
 }
 
 /* Pi_ij of the lanes with neighbour j, given vx = v_ij . x_ij: on the
@@ -241,15 +275,8 @@ static inline realv pass2_viscosity(const struct pass2_lanes_i *I, realv vx, rea
     (void)q;
     (void)velocity_gradient;
 #endif
-    const realv c_mean = (real)0.5 * (I->c + sound_speed[j]);
-#ifdef SPH_AV_SWITCH
-    const realv alpha_ij = (real)0.5 * (I->alpha + av_alpha[j]),
-                beta_ij = I->beta_per_alpha * alpha_ij;
-#else
-    (void)av_alpha;
-    const real alpha_ij = run->av_alpha, beta_ij = run->av_beta;
-#endif
-    return artificial_viscosity(vr, r2, h, c_mean, inv_rho_mean, alpha_ij, beta_ij);
+    return pair_artificial_viscosity(vr, r2, h, (real)0.5 * (I->c + sound_speed[j]), inv_rho_mean,
+                                     I->alpha, I->beta_per_alpha, j, av_alpha, run);
 }
 
 /* The kernel gradient g = grad_i W_ij, and as each side's stress sees it:

@@ -226,11 +226,9 @@ tl_deformation(__global const vec *restrict pos, __global const vec *restrict po
 /* What tl_momentum holds of its own particles, one lane each. */
 struct tl_lanes_i {
     realv x0[3], x[3], v[3], a[3][3], f[3][3], rho, c;
-    realv hourglass; /* the hourglass stiffness alpha E / rho0_i (tl_momentum) */
-#ifdef SPH_AV_SWITCH
-    realv alpha;
-    real beta_per_alpha;
-#endif
+    realv hourglass;     /* the hourglass stiffness alpha E / rho0_i (tl_momentum) */
+    realv alpha;         /* SPH_AV_SWITCH: each lane's own alpha (else unused) */
+    real beta_per_alpha; /* SPH_AV_SWITCH: the case's beta / alpha */
 };
 
 static inline void
@@ -258,12 +256,7 @@ tl_gather(struct tl_lanes_i *I, const struct lane_block *b, int n, __global cons
                          (((real)3 * m->bulk_modulus + m->shear_modulus) * m->density);
     }
     I->hourglass = hourglass.v;
-#ifdef SPH_AV_SWITCH
-    I->alpha = gather_real(av_alpha, b, n);
-    I->beta_per_alpha = run->av_alpha > 0 ? run->av_beta / run->av_alpha : (real)0;
-#else
-    (void)av_alpha;
-#endif
+    switch_lanes(av_alpha, b, n, run, &I->alpha, &I->beta_per_alpha);
 }
 
 /* Hourglass control (after Ganzenmueller 2015, eqs. 18-20): the pair
@@ -324,15 +317,9 @@ tl_viscosity(const struct tl_lanes_i *I, const realv xij[3], const realv vij[3],
         return;
     const realv q = sqrt(r2) * inv_h, inv_rho_mean = (real)2 / (I->rho + rho[j]);
     const realv vx = vij[0] * xij[0] + vij[1] * xij[1] + vij[2] * xij[2];
-#ifdef SPH_AV_SWITCH
-    const realv alpha_ij = (real)0.5 * (I->alpha + av_alpha[j]),
-                beta_ij = I->beta_per_alpha * alpha_ij;
-#else
-    (void)av_alpha;
-    const real alpha_ij = run->av_alpha, beta_ij = run->av_beta;
-#endif
-    const realv pi_ij = artificial_viscosity(vx, r2, h, (real)0.5 * (I->c + sound_speed[j]),
-                                             inv_rho_mean, alpha_ij, beta_ij);
+    const realv pi_ij =
+        pair_artificial_viscosity(vx, r2, h, (real)0.5 * (I->c + sound_speed[j]), inv_rho_mean,
+                                  I->alpha, I->beta_per_alpha, j, av_alpha, run);
     const realv s = SPH_SELECT((realv)0, -mass[j] * pi_ij * kernel_dwdr_over_r_q(q, inv_h), near);
 #pragma unroll
     for (int a = 0; a < SPH_DIM; ++a)
