@@ -221,15 +221,18 @@ static void run_faces(int dim, int per_axis)
 
 /* The sort itself (kernels/grid.cl, a counting sort by cell, each cell
  * ordered by slot): keys in order and a permutation of the slots, for
- * counts from one key to a few thousand. */
+ * counts from one key to a few thousand, spread over many cells (more than
+ * one block of the prefix sum) and crowded into a few (long runs of one
+ * cell for the per-cell insertion sort). */
 static void test_sort_any_count(void **state)
 {
     (void)state;
     const int counts[] = {1, 2, 3, 5, 64, 127, 1000, 1025};
-    for (size_t c = 0; c < sizeof counts / sizeof counts[0]; ++c) {
-        const int n = counts[c];
+    const double sizes[] = {100.0, 0.5}; /* m; cells of 2.88 m (make_case) */
+    for (size_t c = 0; c < 2 * sizeof counts / sizeof counts[0]; ++c) {
+        const int n = counts[c / 2];
         double *xyz = malloc(sizeof(double) * 3 * n);
-        random_points(xyz, n, 3, 10.0);
+        random_points(xyz, n, 3, sizes[c % 2]);
         struct fixture f;
         setup(&f, 3, xyz, n);
         cl_ulong *keys = malloc(sizeof(cl_ulong) * n);
