@@ -319,6 +319,16 @@ __kernel void grid_coarser_spread(__global const int *restrict coarser_in,
     } else {
         base = row, stride = grid_dims.x * grid_dims.y, extent = grid_dims.z;
     }
+    /* a row with no mark (empty space, or deep inside the finest level)
+     * spreads nothing: one load per cell */
+    int any = 0;
+    for (int k = 0; k < extent; ++k)
+        any |= coarser_in[base + k * stride];
+    if (!any) {
+        for (int k = 0; k < extent; ++k)
+            coarser_out[base + k * stride] = 0;
+        return;
+    }
     int window[SPH_LEVEL_MASK + 1], count[SPH_LEVEL_MASK + 1], widest = 0;
     for (int level = 0; level < coarsest; ++level) {
         window[level] = coarser_window(level, skin, axis);
