@@ -213,13 +213,6 @@ static void transfer(struct solver *s, struct checkpoint *k, const char *name, c
     free(host);
 }
 
-/* The cell buffers are made at the first sort, which a resumed run does not
- * repeat: made here at the checkpoint's size. */
-static void make_cell_buffers(struct solver *s, struct checkpoint *k)
-{
-    solver_make_cell_buffers(s, checkpoint_size(k, "cell_start"));
-}
-
 /* Every persistent field in use (the n slots of particles and ghosts) and
  * the other buffers a step reads before writing, one walk for both ways. */
 static void solver_buffers(struct solver *s, struct checkpoint *k, int load)
@@ -232,7 +225,8 @@ static void solver_buffers(struct solver *s, struct checkpoint *k, int load)
                      load);
         }
     if (load)
-        make_cell_buffers(s, k);
+        /* made at the first sort, which a resumed run does not repeat */
+        solver_make_cell_buffers(s, checkpoint_size(k, "cell_start"));
     const struct named_buffer buffers[] = SOLVER_BUFFERS(s);
     for (size_t b = 0; b < sizeof buffers / sizeof buffers[0]; ++b) {
         const cl_mem m = *buffers[b].buffer;

@@ -239,20 +239,17 @@ void solver_launch(struct solver *s, cl_kernel k, size_t global, size_t local)
         profile_record(k, event);
 }
 
-/* kernels/grid.cl SPH_SCAN_BLOCK: buckets per block of the prefix sum */
-#define SCAN_BLOCK 256
-
 void solver_sort_keys(struct solver *s, int buckets)
 {
     if (buckets > s->sort_bucket_capacity) {
         solver_release_buffer(&s->sort_buckets);
         solver_release_buffer(&s->sort_block_totals);
         s->sort_bucket_capacity = buckets + buckets / 4;
-        const size_t blocks = (size_t)s->sort_bucket_capacity / SCAN_BLOCK + 1;
+        const size_t blocks = (size_t)s->sort_bucket_capacity / SPH_SCAN_BLOCK + 1;
         s->sort_buckets = solver_create_buffer(s, sizeof(cl_int) * (size_t)s->sort_bucket_capacity);
         s->sort_block_totals = solver_create_buffer(s, sizeof(cl_int) * blocks);
     }
-    const cl_int zero = 0, blocks = (buckets + SCAN_BLOCK - 1) / SCAN_BLOCK;
+    const cl_int zero = 0, blocks = (buckets + SPH_SCAN_BLOCK - 1) / SPH_SCAN_BLOCK;
     /* the gather spare (8 B or more per slot) is free until the gathers */
     SET_ARGS(s, s->k.fill_int, MEM("a", s->sort_buckets), INT("value", zero), INT("n", buckets));
     solver_launch(s, s->k.fill_int, (size_t)buckets, 0);

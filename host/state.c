@@ -44,10 +44,7 @@ int solver_case_coarsest_level(const struct sph_case *c)
 
 int solver_case_graded(const struct sph_case *c)
 {
-    int graded = 0;
-    for (int b = 0; b < c->body_count; ++b)
-        graded |= c->bodies[b].grading.enabled;
-    return graded;
+    return solver_case_coarsest_level(c) > 0; /* grading.levels >= 1 (host/case.c) */
 }
 
 void solver_choose_loop(struct sph_case *c, const struct sph_device *dev)

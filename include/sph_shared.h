@@ -58,6 +58,10 @@ enum sph_flag {
     SPH_FLAG_GHOST = 32   /* mirror image of a real particle (symmetry planes): not integrated */
 };
 
+/* Buckets per block of the sort's prefix sum (kernels/grid.cl,
+ * host/launch.c solver_sort_keys). */
+#define SPH_SCAN_BLOCK 256
+
 /* Graded lattices (host/scene.c): bits 8-11 of a particle's flags hold its
  * spacing level k (spacing 2^k numerics.dx, smoothing length 2^k h) and
  * bits 12-19 how many grid cells its neighbour search reaches

@@ -54,8 +54,8 @@ grid_bounds(__global const vec *restrict pos, __global real *restrict partials, 
  * solver_sort_keys runs the passes. The keys of one sort are nearly in
  * order already (particles keep their cell between sorts), but a counting
  * sort does not care: it takes O(n + buckets) work where a comparison
- * network took O(n log^2 n) (a bitonic sort of 1.36M keys: 231 stages,
- * about 350 ms on two cores; docs/performance.md). The scatter takes its
+ * network took O(n log^2 n) (a bitonic sort of 1.18M keys: 231 stages,
+ * 320-350 ms on two cores; docs/performance.md). The scatter takes its
  * slots with atomic increments, so within a bucket the keys land in an
  * order the device's scheduling picks; grid_bucket_order then sorts each
  * bucket by the whole key (the low half is the slot, unique), so the
@@ -73,11 +73,10 @@ __kernel void grid_bucket_count(__global const ulong *restrict keys, __global in
 }
 
 /* Counts to the first slot of each bucket (an exclusive prefix sum) in
- * three passes over blocks of SPH_SCAN_BLOCK buckets, so that no work-item
- * walks all of them (millions of cells): each block's total, the blocks'
- * offsets (one work-item, a few thousand blocks), each block's prefix. */
-#define SPH_SCAN_BLOCK 256
-
+ * three passes over blocks of SPH_SCAN_BLOCK buckets (include/sph_shared.h),
+ * so that no work-item walks all of them (millions of cells): each block's
+ * total, the blocks' offsets (one work-item, a few thousand blocks), each
+ * block's prefix. */
 /* reads bucket; writes block_total[block] */
 __kernel void grid_bucket_block_total(__global const int *restrict bucket,
                                       __global int *restrict block_total, const int buckets)

@@ -5,7 +5,8 @@
  *   integrate_kick              v^(n+1/2) = v^(n-1/2) + (dt_prev + dt)/2 a^n,
  *                               predicted v~(n+1) = v^(n+1/2) + dt/2 a^n
  *   pass 1 at x^n, v^(n+1/2)    -> velocity gradient of the half-step velocity
- *   material_update             rho, e, S from n to n+1 (central in time)
+ *   the material update         rho, e, S from n to n+1 (central in time),
+ *                               particle by particle at the end of pass 1
  *   integrate_drift             u^(n+1) = u^n + dt (v^(n+1/2) + v_xsph),
  *                               x^(n+1) = x^0 + u^(n+1)
  * Stress and velocity are staggered as in the central-difference scheme of

@@ -390,11 +390,11 @@ static inline void store_stress(__constant const struct sph_material *m, real s[
 /* The material update of particle i (not a ghost) from its velocity
  * gradient l (1/s) and density rate (kg/m^3/s) over the step dt (s): called
  * at the end of pass 1 in the updated Lagrangian form (pass1.cl),
- * so the velocity gradient is never stored, and by material_update in the
- * total Lagrangian form. It writes only particle i's own state, and not its
- * density or flags, which neighbours' pass 1 reads while it runs: it
- * returns the new density, and integrate_drift writes that and the damage
- * flag (particle_failed) after every particle's update. */
+ * so the velocity gradient is never stored, and at the end of
+ * tl_deformation in the total Lagrangian form (total_lagrangian.cl). It writes only particle i's
+ * own state, and not its density or flags, which neighbours' pass 1 reads while it runs: it returns
+ * the new density, and integrate_drift writes that and the damage flag (particle_failed) after
+ * every particle's update. */
 static inline real
 material_update_particle(int i, real l[3][3], real density_rate_i, real dt,
                          __global const real *restrict rho, __global const int *restrict material,

@@ -40,8 +40,8 @@ static inline real tl_reference_volume(__global const real *restrict mass,
 }
 
 /* C_i from the reference lattice; run once, before the first step, one
- * particle per work-item (ghosts too: their C is reflected from their
- * owners' at every refresh, but the first tl_first_piola reads it).
+ * particle per work-item (ghosts too, so that no slot of the field is left
+ * unset; a ghost's C is reflected from its owner's at every refresh).
  * reads: pos0, mass, material; writes: csph (C_i). */
 __kernel void tl_correction(__global const vec *restrict pos0, __global const real *restrict mass,
                             __global const int *restrict material, GRID_ARGS,
