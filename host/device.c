@@ -28,6 +28,7 @@ static const char *const source_files[] = {
     "kernels/pass2.cl",
     "kernels/total_lagrangian.cl",
     "kernels/ghost.cl",
+    "kernels/halo.cl",
     "kernels/integrate.cl",
     "kernels/reduce.cl",
     "kernels/projectile.cl",

@@ -153,15 +153,15 @@ static void unpack_element(const struct solver *s, enum element_kind kind,
     }
 }
 
-/* Reads field f into its column by id (row_of_slot: the id in each device
- * slot; ghosts' rows are n_real and above and are skipped). */
+/* Reads field f into its column by scene index (row_of_slot: each device
+ * slot's, -1 for ghost and halo slots, which are skipped). */
 static int read_column(struct solver *s, enum field f, const int *row_of_slot,
                        struct host_column *col)
 {
     const enum element_kind kind = field_table[f].kind;
     const size_t element = s->element_size[kind], n = (size_t)s->n;
     unsigned char *raw = CHECKED_CALLOC(element * n + 1, 1, "field read-back");
-    col->data = CHECKED_CALLOC((size_t)s->n_real * col->components + 1,
+    col->data = CHECKED_CALLOC((size_t)s->n_scene * col->components + 1,
                                col->is_int ? sizeof(int) : sizeof(double), "snapshot field");
     if (!raw || !col->data) {
         free(raw);
@@ -170,9 +170,20 @@ static int read_column(struct solver *s, enum field f, const int *row_of_slot,
     CL_CHECK(clEnqueueReadBuffer(s->dev->queue, s->field[f], CL_TRUE, 0, element * n, raw, 0, NULL,
                                  NULL));
     for (size_t k = 0; k < n; ++k)
-        if (row_of_slot[k] < s->n_real)
+        if (row_of_slot[k] >= 0)
             unpack_element(s, kind, raw + k * element, col, row_of_slot[k]);
+    if (f == FIELD_ID) /* the scene index, not a rank's own numbering */
+        for (size_t k = 0; k < n; ++k)
+            if (row_of_slot[k] >= 0)
+                ((int *)col->data)[row_of_slot[k]] = row_of_slot[k];
     free(raw);
+    /* over several processes each rank filled its own rows; the others
+     * are zero, so the sum is every rank's column, exactly */
+    const size_t values = (size_t)s->n_scene * col->components;
+    if (s->domain.active && col->is_int)
+        dist_sum_ints(col->data, values);
+    else if (s->domain.active)
+        dist_sum_doubles(col->data, values);
     return 0;
 }
 
@@ -183,6 +194,7 @@ static int read_slot_ids(struct solver *s, int **ids)
         return 1;
     CL_CHECK(clEnqueueReadBuffer(s->dev->queue, s->field[FIELD_ID], CL_TRUE, 0,
                                  sizeof(cl_int) * (size_t)s->n, *ids, 0, NULL, NULL));
+    solver_domain_rows(s, *ids, s->n);
     return 0;
 }
 
@@ -218,7 +230,7 @@ static int derive_columns(const struct solver *s, struct host_fields *o)
 int solver_read_fields(struct solver *s, struct host_fields *o)
 {
     memset(o, 0, sizeof *o);
-    o->n = s->n_real;
+    o->n = s->n_scene;
     int *row_of_slot = NULL;
     int failed = read_slot_ids(s, &row_of_slot);
     for (int f = 0; f < FIELD_COUNT && !failed; ++f) {

@@ -15,6 +15,15 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* Graded lattices: a particle's pairs reach 1.5 of its own supports (the
+ * mean smoothing length with a coarser neighbour); every pair across a
+ * plane (or a slab boundary, host/domain.c) then has both images, and stays
+ * equal and opposite. */
+double solver_reach_scale(const struct solver *s, int flags)
+{
+    return s->graded ? 1.5 * (double)(1 << SPH_LEVEL_OF(flags)) : 1.0;
+}
+
 /* Images of one position: every non-empty subset of the planes it is close
  * to. Writes their masks, returns how many. */
 static int images(const struct ghosts *g, const double *x, double scale, int dim, int masks[7])
@@ -52,19 +61,10 @@ void solver_ghosts_setup(struct solver *s, const struct sph_case *c, const struc
         return;
     /* the support plus the distance particles may move between sorts */
     g->width = s->run.support * (1.0 + s->skin);
-    /* graded lattices: a particle's pairs reach 1.5 of its own supports
-     * (the mean smoothing length with a coarser neighbour); every pair
-     * across a plane then has both images, and stays equal and opposite */
-    g->scale = CHECKED_CALLOC((size_t)scene->count + 1, sizeof(double), "ghost scales");
-    if (!g->scale) /* recorded: solver_create returns it */
-        return;
-    for (int p = 0; p < scene->count; ++p) {
-        const int level = SPH_LEVEL_OF(scene->flags[p]);
-        g->scale[p] = s->graded ? 1.5 * (1 << level) : 1.0;
-    }
     int initial = 0, masks[7];
     for (int p = 0; p < scene->count; ++p)
-        initial += images(g, &scene->position[3 * p], g->scale[p], c->dimension, masks);
+        initial += images(g, &scene->position[3 * p], solver_reach_scale(s, scene->flags[p]),
+                          c->dimension, masks);
     /* room for the layer near the planes to thicken as the body deforms */
     g->capacity = 2 * initial + 256;
     s->capacity = scene->count + g->capacity;
@@ -83,13 +83,19 @@ static void ghost_kernels(struct solver *s, int make)
     solver_kernels(s, list, (int)(sizeof list / sizeof list[0]), make);
 }
 
+/* Slots by id: the mirrors' and the MPI halos' (host/domain.c). */
+static int ghosts_in_use(const struct solver *s)
+{
+    return s->ghosts.plane_count > 0 || s->domain.active;
+}
+
 void solver_ghosts_create(struct solver *s)
 {
     struct ghosts *g = &s->ghosts;
-    if (g->plane_count == 0)
+    if (!ghosts_in_use(s))
         return;
-    g->source_id = solver_create_buffer(s, sizeof(cl_int) * (size_t)g->capacity);
-    g->mask = solver_create_buffer(s, sizeof(cl_int) * (size_t)g->capacity);
+    g->source_id = solver_create_buffer(s, sizeof(cl_int) * ((size_t)g->capacity + 1));
+    g->mask = solver_create_buffer(s, sizeof(cl_int) * ((size_t)g->capacity + 1));
     g->index_of_id = solver_create_buffer(s, sizeof(cl_int) * (size_t)s->capacity);
     ghost_kernels(s, 1);
 }
@@ -97,8 +103,6 @@ void solver_ghosts_create(struct solver *s)
 void solver_ghosts_release(struct solver *s)
 {
     struct ghosts *g = &s->ghosts;
-    free(g->scale);
-    g->scale = NULL;
     cl_mem *buffers[] = {&g->source_id, &g->mask, &g->index_of_id};
     for (size_t k = 0; k < sizeof buffers / sizeof buffers[0]; ++k)
         if (*buffers[k])
@@ -109,7 +113,7 @@ void solver_ghosts_release(struct solver *s)
 void solver_ghosts_reindex(struct solver *s)
 {
     struct ghosts *g = &s->ghosts;
-    if (g->plane_count == 0)
+    if (!ghosts_in_use(s))
         return;
     SET_ARGS(s, g->index_kernel, MEM("index_of_id", g->index_of_id), INT("n", s->n));
     solver_launch(s, g->index_kernel, (size_t)s->n, 0);
@@ -123,9 +127,11 @@ static void refresh_field(struct solver *s, enum field f)
     if (!solver_field_mirrored(s, f) || g->count == 0)
         return;
     cl_kernel k = g->refresh[info->kind];
+    const cl_int first = s->n - g->count;
 #define GHOST_ARG_LIST                                                                             \
     MEM("field", s->field[f]), MEM("ghost_source_id", g->source_id), MEM("ghost_mask", g->mask),   \
-        MEM("index_of_id", g->index_of_id), INT("n_real", s->n_real), INT("ghost_count", g->count)
+        MEM("index_of_id", g->index_of_id), INT("first_ghost", first),                             \
+        INT("ghost_count", g->count)
     if (info->kind == ELEM_VEC) {
         const cl_int is_position = info->mirror == MIRROR_POSITION;
         struct real4_arg plane;
@@ -133,9 +139,7 @@ static void refresh_field(struct solver *s, enum field f)
                  INT("is_position", is_position));
     } else if (info->kind == ELEM_INT) {
         const int flags = info->mirror == MIRROR_FLAGS;
-        const cl_int keep = flags ? (SPH_LEVEL_MASK << SPH_LEVEL_SHIFT) |
-                                        (SPH_REACH_MASK << SPH_REACH_SHIFT) | SPH_FLAG_DAMAGED
-                                  : ~0;
+        const cl_int keep = flags ? SPH_GHOST_KEEP_FLAGS : ~0;
         const cl_int set = flags ? SPH_FLAG_GHOST : 0;
         SET_ARGS(s, k, GHOST_ARG_LIST, INT("keep", keep), INT("set", set));
     } else
@@ -146,6 +150,7 @@ static void refresh_field(struct solver *s, enum field f)
 
 void solver_ghosts_refresh(struct solver *s, const enum field *fields, int count)
 {
+    solver_domain_refresh(s, fields, count); /* the halo first: mirrors may image it */
     if (s->ghosts.plane_count == 0 || s->ghosts.count == 0)
         return;
     if (fields) {
@@ -157,8 +162,7 @@ void solver_ghosts_refresh(struct solver *s, const enum field *fields, int count
         refresh_field(s, (enum field)f);
 }
 
-/* Puts every particle in id order: reals in slots 0 .. n_real - 1. */
-static void compact(struct solver *s)
+void solver_compact(struct solver *s)
 {
     struct ghosts *g = &s->ghosts;
     SET_ARGS(s, g->id_keys, INT("n", s->n));
@@ -167,21 +171,23 @@ static void compact(struct solver *s)
     solver_gather_persistent(s);
 }
 
-/* Reads the real particles' positions (slots 0 .. n_real - 1 after the
- * compaction) as doubles, 3 per particle. */
-static double *real_positions(struct solver *s)
+/* Reads the first `sources` particles' positions (slots 0 .. sources - 1
+ * after the compaction) as doubles, 3 per particle, and their flags. */
+static double *source_positions(struct solver *s, int sources, int *flags)
 {
     const int width = s->dim == 2 ? 2 : 4;
-    const size_t r = s->element_size[ELEM_REAL], count = (size_t)s->n_real * width;
+    const size_t r = s->element_size[ELEM_REAL], count = (size_t)sources * width;
     unsigned char *raw = CHECKED_CALLOC(count * r + 1, 1, "positions read-back");
-    double *x = CHECKED_CALLOC((size_t)s->n_real * 3 + 1, sizeof(double), "positions");
+    double *x = CHECKED_CALLOC((size_t)sources * 3 + 1, sizeof(double), "positions");
     if (!raw || !x) {
         free(raw), free(x);
         return NULL;
     }
     CL_CHECK(clEnqueueReadBuffer(s->dev->queue, s->field[FIELD_POS], CL_TRUE, 0, count * r, raw, 0,
                                  NULL, NULL));
-    for (int p = 0; p < s->n_real; ++p)
+    CL_CHECK(clEnqueueReadBuffer(s->dev->queue, s->field[FIELD_FLAGS], CL_TRUE, 0,
+                                 sizeof(int) * (size_t)sources, flags, 0, NULL, NULL));
+    for (int p = 0; p < sources; ++p)
         for (int a = 0; a < s->dim; ++a) {
             const size_t k = (size_t)p * width + a;
             if (s->double_precision)
@@ -201,17 +207,20 @@ int solver_ghosts_rebuild(struct solver *s, char *error, size_t error_size)
     struct ghosts *g = &s->ghosts;
     if (g->plane_count == 0)
         return 0;
-    compact(s);
-    double *x = real_positions(s);
+    solver_compact(s);
+    /* the reals' images, and the MPI halo's (host/domain.c) */
+    const int sources = s->n_real + s->domain.halo_count;
+    int *flags = CHECKED_CALLOC((size_t)sources + 1, sizeof(int), "ghost source flags");
+    double *x = flags ? source_positions(s, sources, flags) : NULL;
     int *source = CHECKED_CALLOC((size_t)g->capacity + 1, sizeof(int), "ghost sources");
     int *mask = CHECKED_CALLOC((size_t)g->capacity + 1, sizeof(int), "ghost masks");
     if (!x || !source || !mask) {
-        free(x), free(source), free(mask);
+        free(x), free(flags), free(source), free(mask);
         return snprintf(error, error_size, "%s", cl_failure()) > 0;
     }
     int count = 0, overflow = 0, masks[7];
-    for (int p = 0; p < s->n_real; ++p) {
-        const int m = images(g, &x[3 * p], g->scale[p], s->dim, masks);
+    for (int p = 0; p < sources; ++p) {
+        const int m = images(g, &x[3 * p], solver_reach_scale(s, flags[p]), s->dim, masks);
         for (int k = 0; k < m; ++k) {
             if (count < g->capacity) {
                 source[count] = p; /* after the compaction the slot is the id */
@@ -221,7 +230,7 @@ int solver_ghosts_rebuild(struct solver *s, char *error, size_t error_size)
             ++count;
         }
     }
-    free(x);
+    free(x), free(flags);
     if (overflow) {
         snprintf(error, error_size,
                  "the symmetry planes need %d mirror particles but room was made for %d (the "
@@ -231,13 +240,13 @@ int solver_ghosts_rebuild(struct solver *s, char *error, size_t error_size)
         return 1;
     }
     g->count = count;
-    s->n = s->n_real + count;
+    s->n = sources + count;
     if (count > 0) {
         CL_CHECK(clEnqueueWriteBuffer(s->dev->queue, g->source_id, CL_TRUE, 0,
                                       sizeof(int) * (size_t)count, source, 0, NULL, NULL));
         CL_CHECK(clEnqueueWriteBuffer(s->dev->queue, g->mask, CL_TRUE, 0,
                                       sizeof(int) * (size_t)count, mask, 0, NULL, NULL));
-        SET_ARGS(s, g->init, INT("n_real", s->n_real), INT("ghost_count", g->count));
+        SET_ARGS(s, g->init, INT("first_ghost", sources), INT("ghost_count", g->count));
         solver_launch(s, g->init, (size_t)count, 0);
     }
     free(source), free(mask);

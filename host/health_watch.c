@@ -15,9 +15,9 @@ int health_watch_open(struct health_watch *h, struct solver *s, int count_now)
 {
     h->min_pair_distance = HUGE_VAL;
     h->first_unhealthy_time = -1;
-    h->initial_neighbours = CHECKED_CALLOC((size_t)s->n_real + 1, sizeof(int), "neighbour counts");
-    h->neighbours = CHECKED_CALLOC((size_t)s->n_real + 1, sizeof(int), "neighbour counts");
-    h->damaged = CHECKED_CALLOC((size_t)s->n_real + 1, 1, "damage marks");
+    h->initial_neighbours = CHECKED_CALLOC((size_t)s->n_scene + 1, sizeof(int), "neighbour counts");
+    h->neighbours = CHECKED_CALLOC((size_t)s->n_scene + 1, sizeof(int), "neighbour counts");
+    h->damaged = CHECKED_CALLOC((size_t)s->n_scene + 1, 1, "damage marks");
     if (!h->initial_neighbours || !h->neighbours || !h->damaged)
         return 1;
     if (count_now)
@@ -93,9 +93,9 @@ void health_watch_integrity(struct health_watch *h, struct solver *s, const stru
     if (cl_failed()) /* the counts were not read: the run is unwinding */
         return;
     int lost = 0;
-    for (int p = 0; p < s->n_real; ++p) /* failed material may separate */
+    for (int p = 0; p < s->n_scene; ++p) /* failed material may separate */
         lost += 3 * h->neighbours[p] < 2 * h->initial_neighbours[p] && !h->damaged[p];
-    const double fraction = (double)lost / s->n_real;
+    const double fraction = (double)lost / s->n_scene;
     h->max_neighbour_loss = fmax(h->max_neighbour_loss, fraction);
     if (lost == 0 || h->first_unhealthy_time >= 0)
         return;

@@ -7,6 +7,7 @@
 
 #include "bench.h"
 #include "device.h"
+#include "domain.h"
 #include "run.h"
 #include "scene.h"
 #include "solver.h"
@@ -154,6 +155,11 @@ static int command_bench(int argc, char **argv)
         o.steps = o.quick ? 5 : 20;
     if (o.warmup < 0)
         o.warmup = o.quick ? 2 : 5;
+    if (dist_size() > 1) {
+        fprintf(stderr, "sph bench: runs as one process (time a run over several processes with "
+                        "sph run --profile)\n");
+        return 1;
+    }
     return bench_main(&o);
 }
 
@@ -236,7 +242,7 @@ static int command_check(int argc, char **argv)
     return code;
 }
 
-int main(int argc, char **argv)
+static int sph_main(int argc, char **argv)
 {
     /* past a file size limit a write fails (EFBIG) and the run says so,
      * instead of being killed without a word */
@@ -264,6 +270,7 @@ int main(int argc, char **argv)
         char *sets[CASE_MAX_SETS];
         if (parse_options(argc - 2, argv + 2, &o, sets, 1, usage_run))
             return 1;
+        o.quiet |= dist_rank() != 0; /* rank 0 reports for the job */
         return run_case(&o);
     }
     if (strcmp(command, "resume") == 0) {
@@ -312,4 +319,12 @@ int main(int argc, char **argv)
     }
     fprintf(stderr, "sph: unknown command '%s'\n\n%s", command, usage_main);
     return 1;
+}
+
+int main(int argc, char **argv)
+{
+    dist_start(&argc, &argv); /* MPI under mpirun (host/domain.h) */
+    const int code = sph_main(argc, argv);
+    dist_stop();
+    return code;
 }

@@ -11,6 +11,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "domain.h"
+
 #include "checkpoint.h"
 
 int make_folders(const char *path)
@@ -89,6 +91,9 @@ int output_open(struct output *o, const char *folder, const struct sph_case *c, 
 {
     if (output_setup(o, folder, c, particles, error, error_size))
         return 1;
+    o->silent = dist_rank() != 0; /* over several processes rank 0 writes */
+    if (o->silent)
+        return 0;
     if (make_folders(folder) != 0) {
         snprintf(error, error_size, "cannot create the output folder %s: %s", folder,
                  strerror(errno));
@@ -204,6 +209,8 @@ int output_resume_files(struct output *o, int with_ballistics, char *error, size
 
 void output_history(struct output *o, const struct history_row *r)
 {
+    if (o->silent)
+        return;
     fprintf(o->history,
             "%.9e,%ld,%.6e,%.9e,%.9e,%.9e,%.9e,%.9e,%.6e,%.6e,%.6e,%.6e,%.6e,%.6e,%.6e,%.9e,",
             r->time, r->step, r->dt, r->probe, r->kinetic, r->internal, r->external_work,
@@ -588,6 +595,10 @@ int output_snapshot(struct output *o, const struct host_fields *f, const struct 
 {
     if (o->snapshot_count >= SPH_MAX_SNAPSHOTS)
         return 0;
+    if (o->silent) {
+        o->snapshot_times[o->snapshot_count++] = meta->time;
+        return 0;
+    }
     if (o->snapshot_count == 0)
         place_walls(o, f);
     note_columns(o, f);
@@ -659,6 +670,8 @@ static void summary_projectile(FILE *f, const struct run_summary *s)
 
 int output_summary(struct output *o, const struct run_summary *s)
 {
+    if (o->silent)
+        return 0;
     /* through a temporary name: a full disk leaves the previous file, not an empty one */
     char path[SPH_PATH_MAX + 64], temporary[SPH_PATH_MAX + 80];
     snprintf(path, sizeof path, "%s/summary.json", o->folder);
@@ -676,6 +689,10 @@ int output_summary(struct output *o, const struct run_summary *s)
     fprintf(f, "  \"dimension\": %d,\n  \"particles\": %d,\n  \"steps\": %ld,\n", s->dimension,
             s->particles, s->steps);
     fprintf(f, "  \"bytes_per_particle\": %zu,\n", s->bytes_per_particle);
+    fprintf(f, "  \"processes\": %d,\n", s->processes);
+    if (s->processes > 1)
+        fprintf(f, "  \"migrated_particles\": %ld,\n  \"rebalances\": %d,\n", s->migrated_particles,
+                s->rebalances);
     json_number(f, "end_time_s", s->end_time, 0);
     json_number(f, "wall_time_s", s->wall_time_s, 0);
     json_number(f, "steps_per_s", s->steps_per_s, 0);

@@ -10,6 +10,7 @@
 
 struct output {
     char folder[SPH_PATH_MAX];
+    int silent; /* a rank other than 0 of a run over several processes: writes nothing */
     FILE *history;
     int snapshot_count;
     double *snapshot_times;
@@ -71,7 +72,10 @@ struct run_summary {
     int particles, dimension;
     long steps;
     double end_time, wall_time_s, steps_per_s;
-    size_t bytes_per_particle;
+    size_t bytes_per_particle; /* of this rank's slots (rank 0 over several processes) */
+    int processes;             /* MPI ranks (1: the serial run) */
+    long migrated_particles;   /* over several processes: changes of rank, whole run */
+    int rebalances;            /* times the slabs were cut again */
     int has_probe;
     const char *probe_name;
     double probe_final, probe_mean;

@@ -11,6 +11,7 @@
 
 #include "checkpoint.h"
 #include "device.h"
+#include "domain.h"
 #include "output.h"
 #include "run_parts.h"
 #include "scene.h"
@@ -153,6 +154,12 @@ static int write_snapshot(struct loop *L)
     const int status = output_snapshot(L->out, &f, &meta, error, sizeof error);
     impact_measure(&L->impact, L->c, &f, L->health.damaged);
     host_fields_free(&f);
+    /* rank 0 writes; every rank stops with it */
+    if (dist_bcast_int(status) && dist_rank() != 0)
+        return snprintf(L->message, sizeof L->message,
+                        "at step %ld, t = %.6e s: rank 0 could not "
+                        "write the snapshot",
+                        L->step, L->t) > 0;
     if (status) {
         fprintf(stderr, "sph: %s\n", error);
         snprintf(L->message, sizeof L->message, "at step %ld, t = %.6e s: %s", L->step, L->t,
@@ -250,13 +257,16 @@ static void finish_summary(struct loop *L, struct run_summary *sum)
     sum->precision = L->c->numerics.double_precision ? "double" : "float";
     sum->neighbour_loop = L->s->lanes > 1 ? "lanes" : "plain";
     sum->neighbour_lanes = L->s->lanes;
-    sum->particles = L->s->n_real;
+    sum->particles = L->s->n_scene;
     sum->dimension = L->c->dimension;
     sum->steps = L->step;
     sum->end_time = L->t;
     sum->wall_time_s = wall;
     sum->steps_per_s = wall > 0 ? (L->step - L->first_step) / wall : 0;
     sum->bytes_per_particle = solver_bytes_per_particle(L->s);
+    sum->processes = dist_size();
+    sum->migrated_particles = L->s->domain.migrated;
+    sum->rebalances = L->s->domain.rebalances;
     sum->has_probe = L->c->has_probe;
     sum->probe_name = L->c->has_probe ? L->c->probe.name : "";
     sum->probe_final = L->probe;
@@ -323,8 +333,11 @@ static void print_summary_line(const struct run_summary *sum, const char *folder
     else if (sum->has_projectile)
         printf(" | P_max %.4g um at %.4g ns", 1e6 * sum->max_penetration_m,
                1e9 * sum->time_of_max_penetration_s);
-    printf(" | %d particles, %ld steps, %.1f s wall, %.0f steps/s | %s\n", sum->particles,
-           sum->steps, sum->wall_time_s, sum->steps_per_s, folder);
+    printf(" | %d particles, %ld steps, %.1f s wall, %.0f steps/s", sum->particles, sum->steps,
+           sum->wall_time_s, sum->steps_per_s);
+    if (dist_size() > 1)
+        printf(", %d processes", dist_size());
+    printf(" | %s\n", folder);
 }
 
 /* write_history or write_snapshot, timed apart when profiling. */
@@ -346,6 +359,10 @@ static int device_failed(struct loop *L)
     L->status = cl_failure_status();
     snprintf(L->message, sizeof L->message, "at step %ld, t = %.6e s: %s", L->step, L->t,
              cl_failure());
+    if (dist_size() > 1) { /* the other ranks wait in a collective: end them all */
+        fprintf(stderr, "sph: rank %d of %d stopped %s\n", dist_rank(), dist_size(), L->message);
+        dist_abort(2);
+    }
     return 1;
 }
 
@@ -373,7 +390,7 @@ static void loop_records(struct loop *L, struct checkpoint *k, int load)
     CHECKPOINT_RECORD(k, "loop.", L->impact, load);
     CHECKPOINT_RECORD(k, "loop.", L->ballistics, load);
     CHECKPOINT_RECORD(k, "loop.", L->red, load);
-    health_watch_records(&L->health, L->s->n_real, k, load);
+    health_watch_records(&L->health, L->s->n_scene, k, load);
 }
 
 /* Writes RUN_DIR/checkpoint.h5 (host/checkpoint.h), with the resolved case
@@ -409,6 +426,8 @@ static int write_checkpoint(struct loop *L)
 static int checkpoint_due(struct loop *L)
 {
     const struct case_output *o = &L->c->output;
+    if (dist_size() > 1) /* multi_process_limits */
+        return 0;
     if (L->t >= L->next_checkpoint * (1 - 1e-9)) {
         while (L->next_checkpoint <= L->t * (1 + 1e-9))
             L->next_checkpoint += o->checkpoint_interval;
@@ -458,8 +477,8 @@ static void catch_interrupts(int on)
 
 static int stop_interrupted(struct loop *L)
 {
-    const int sig = interrupt_signal;
-    const int saved = write_checkpoint(L) == 0;
+    const int sig = interrupt_signal ? interrupt_signal : SIGINT; /* another rank's */
+    const int saved = dist_size() == 1 && write_checkpoint(L) == 0;
     timed_output(L, write_snapshot);
     L->status = "interrupted";
     snprintf(L->message, sizeof L->message, "interrupted by %s at step %ld, t = %.6e s; %s%s",
@@ -509,7 +528,7 @@ static int time_loop(struct loop *L)
         }
         for (int k = 0; L->step == L->raise_at_step && k < L->raise_count; ++k)
             raise(SIGINT); /* SPH_RAISE_AT_STEP: tests' Ctrl-C, pressed twice or more */
-        if (interrupt_signal)
+        if (dist_any(interrupt_signal != 0)) /* every rank stops at the same step */
             return stop_interrupted(L);
         if (checkpoint_due(L))
             write_checkpoint(L);
@@ -576,7 +595,7 @@ static int start(struct loop *L, char *error, size_t size)
     L->energy.start = total_energy(L);
     ballistics_track_start(&L->ballistics);
     if (health_watch_open(&L->health, L->s, 1))
-        return snprintf(error, size, "out of host memory for %d particles", L->s->n_real) > 0;
+        return snprintf(error, size, "out of host memory for %d particles", L->s->n_scene) > 0;
     if (L->s->projectile.enabled && output_ballistics_open(L->out, &L->s->projectile, error, size))
         return 1;
     track_probe(L);
@@ -625,7 +644,7 @@ static int resume_state(struct loop *L, struct checkpoint *k, char *error, size_
 {
     solver_checkpoint_records(L->s, k, 1);
     if (health_watch_open(&L->health, L->s, 0))
-        return snprintf(error, size, "out of host memory for %d particles", L->s->n_real) > 0;
+        return snprintf(error, size, "out of host memory for %d particles", L->s->n_scene) > 0;
     loop_records(L, k, 1);
     if (k->failed)
         return snprintf(error, size, "%s", k->error) > 0;
@@ -656,6 +675,30 @@ static void close_run(struct run_resources *r)
     free(r->c);
 }
 
+/* What a run over several processes (host/domain.c) does not do yet. */
+static int multi_process_limits(const struct sph_case *c, char *error, size_t size)
+{
+    if (dist_size() == 1)
+        return 0;
+    const char *missing =
+        c->numerics.total_lagrangian
+            ? "numerics.formulation: total_lagrangian (its reference neighbours do not migrate)"
+        : c->projectile.enabled             ? "a projectile (its contact sums are not yet global)"
+        : c->output.checkpoint_interval > 0 ? "checkpoints (output.checkpoint_interval)"
+                                            : NULL;
+    if (!missing) {
+        if (dist_rank() == 0 && c->output.checkpoint_wall_interval > 0)
+            fprintf(stderr,
+                    "sph: a run over %d processes writes no checkpoint yet "
+                    "(output.checkpoint_wall_interval is not used)\n",
+                    dist_size());
+        return 0;
+    }
+    return snprintf(error, size,
+                    "%s: a run over %d processes does not support %s yet; run it as one process",
+                    c->path, dist_size(), missing) > 0;
+}
+
 /* Case, scene, device and program, and the run folder's name. Returns 0,
  * or the exit status (1 bad input, 2 device) with the reason in `error`. */
 static int open_run(const struct run_options *opt, struct run_resources *r, char *error,
@@ -667,8 +710,9 @@ static int open_run(const struct run_options *opt, struct run_resources *r, char
     struct sph_case *c = r->c;
     double points = 0;
     if (case_load(opt->case_path, opt->set_count, opt->sets, c, error, size) ||
-        scene_estimate(c, &points, error, size))
+        scene_estimate(c, &points, error, size) || multi_process_limits(c, error, size))
         return 1;
+    points /= dist_size(); /* each rank holds its share */
     if (device_open(opt->device, opt->profile, &r->dev, error, size))
         return 2;
     /* before the scene is built: a case the device cannot hold is refused
@@ -725,8 +769,8 @@ static int run_and_report(struct loop *L, struct run_resources *r)
     if (profile)
         profile->wall_s = profile_clock() - loop_start;
     sph_profiler = NULL;
-    if (profile && report_profile(profile, &r->dev, L->step - L->first_step, r->folder) &&
-        code == 0)
+    if (profile && dist_rank() == 0 &&
+        report_profile(profile, &r->dev, L->step - L->first_step, r->folder) && code == 0)
         code = 1;
     free(profile);
     progress(L, 1);
@@ -737,6 +781,8 @@ static int run_and_report(struct loop *L, struct run_resources *r)
         if (code == 0)
             code = 1;
     }
+    if (dist_rank() != 0) /* rank 0 speaks for the job */
+        return code;
     if (code == 3)
         fprintf(stderr, "sph: %s; the last state is in %s\n", L->message, r->folder);
     if (code == 2)
@@ -806,6 +852,12 @@ int run_case(const struct run_options *opt)
     /* sph resume RUN_DIR: the folder's resolved case, as it was */
     char resolved[SPH_PATH_MAX + 32];
     struct run_options options = *opt;
+    if (opt->resume && dist_size() > 1) {
+        fprintf(stderr, "sph: resume runs as one process (a run over several processes writes "
+                        "no checkpoint yet)\n");
+        free(r), free(k);
+        return 1;
+    }
     if (opt->resume) {
         snprintf(resolved, sizeof resolved, "%s/case.resolved.yaml", opt->out_dir);
         options.case_path = resolved;

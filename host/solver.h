@@ -7,6 +7,7 @@
 #define SPH_SOLVER_H
 
 #include "device.h"
+#include "domain.h"
 #include "scene.h"
 #include "sph_case.h"
 
@@ -109,8 +110,8 @@ struct ghosts {
     int reflected[3]; /* 1 where a plane is normal to that axis */
     double plane[3];  /* its coordinate, m */
     double side[3];   /* +1 or -1: the side of the plane the real particles stay on */
-    double width;     /* particles this close to a plane get images, m ... */
-    double *scale;    /* ... times this factor per real particle (graded lattices) */
+    double width;     /* particles this close to a plane get images, m (times
+                         solver_reach_scale on graded lattices) */
     int count;        /* ghosts in use */
     int capacity;     /* slots for ghosts in every field buffer */
     cl_mem source_id, mask, index_of_id;
@@ -181,9 +182,12 @@ struct reduction {
 struct solver {
     struct sph_device *dev;
     int dim, n, double_precision;
-    int n_real;   /* real particles; n = n_real + ghosts.count slots in use */
+    int n_real;   /* real particles (this rank's); n = n_real + domain.halo_count
+                     + ghosts.count slots in use */
+    int n_scene;  /* particles of the whole case (n_real on one process) */
     int capacity; /* slots in every field buffer */
     struct ghosts ghosts;
+    struct domain domain;        /* MPI: this rank's slab and halo (host/domain.c) */
     int total_lagrangian;        /* numerics.formulation; the grid is then sorted once */
     int graded;                  /* some body has a graded lattice (SPH_GRADED) */
     int coarsest_level;          /* of the graded bodies (solver_case_coarsest_level) */
@@ -331,6 +335,29 @@ int solver_ghosts_rebuild(struct solver *s, char *error, size_t error_size);
 void solver_ghosts_reindex(struct solver *s);
 void solver_ghosts_refresh(struct solver *s, const enum field *fields, int count);
 void solver_ghosts_release(struct solver *s);
+/* Puts every slot in id order: reals in slots 0 .. n_real - 1. */
+void solver_compact(struct solver *s);
+/* A particle's pair reach over the support (1 + skin), from its flags:
+ * 1, or 1.5 x 2^level on graded lattices. */
+double solver_reach_scale(const struct solver *s, int flags);
+
+/* One case over many processes (host/domain.c). solver_domain_setup cuts
+ * the slabs and selects this rank's particles of the scene into `local`
+ * (they come first, then those of its initial halo); solver_domain_size
+ * makes room after the mirrors' set-up; solver_domain_exchange migrates
+ * particles and rebuilds the halo at a re-sort; solver_domain_refresh
+ * copies fields into the halo (solver_ghosts_refresh calls it);
+ * solver_domain_reduce makes a step's reduction global; solver_domain_rows
+ * turns slot ids into scene indices (-1: not a real of this rank). */
+int solver_domain_setup(struct solver *s, const struct sph_scene *scene, struct sph_scene *local,
+                        char *error, size_t error_size);
+void solver_domain_size(struct solver *s);
+void solver_domain_create(struct solver *s);
+void solver_domain_release(struct solver *s);
+int solver_domain_exchange(struct solver *s, char *error, size_t error_size);
+void solver_domain_refresh(struct solver *s, const enum field *fields, int count);
+void solver_domain_reduce(const struct solver *s, struct reduction *r);
+void solver_domain_rows(const struct solver *s, int *row_of_slot, int n);
 
 /* The rigid projectile (host/ballistics.c): set-up from the case and the
  * scene, the two launches of a step, and the history's reading. */

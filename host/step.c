@@ -99,7 +99,7 @@ int solver_create(struct solver *s, struct sph_device *dev, const struct sph_cas
     memset(s, 0, sizeof *s);
     s->dev = dev;
     s->dim = c->dimension;
-    s->n = scene->count;
+    s->n = s->n_scene = scene->count;
     solver_configure(s, c);
     s->graded = solver_case_graded(c);
     s->coarsest_level = solver_case_coarsest_level(c);
@@ -111,12 +111,24 @@ int solver_create(struct solver *s, struct sph_device *dev, const struct sph_cas
                                                               : c->thickness;
     s->probe_count = scene->probe_count;
     fill_run_params(s, c);
-    solver_ghosts_setup(s, c, scene);
-    if (solver_create_buffers(s, c, scene, error, error_size))
+    /* over several processes: this rank's share of the scene (host/domain.c) */
+    struct sph_scene local = {0};
+    if (dist_size() > 1 && solver_domain_setup(s, scene, &local, error, error_size)) {
+        scene_free(&local);
+        return 1;
+    }
+    const struct sph_scene *own = s->domain.active ? &local : scene;
+    solver_ghosts_setup(s, c, own);
+    if (s->domain.active)
+        solver_domain_size(s);
+    const int failed = solver_create_buffers(s, c, own, error, error_size);
+    scene_free(&local);
+    if (failed)
         return 1;
     solver_upload_constants(s, c);
     create_kernels(s);
     solver_ghosts_create(s);
+    solver_domain_create(s);
     if (solver_projectile_create(s, c, scene, error, error_size))
         return 1;
     if (cl_failed()) /* a buffer, upload or kernel the calls above could not make */
@@ -127,6 +139,7 @@ int solver_create(struct solver *s, struct sph_device *dev, const struct sph_cas
 void solver_release(struct solver *s)
 {
     solver_projectile_release(s);
+    solver_domain_release(s);
     solver_ghosts_release(s);
     release_kernels(s);
     solver_release_buffers(s);
@@ -255,16 +268,21 @@ static void graded_reach(struct solver *s)
 
 int solver_sort(struct solver *s, char *error, size_t error_size)
 {
-    if (solver_ghosts_rebuild(s, error, error_size) || layout_grid(s, error, error_size))
-        return 1;
-    sort_keys(s);
-    cell_ranges(s);
-    solver_gather_persistent(s);
-    s->moved_since_sort = 0;
-    solver_ghosts_reindex(s);
-    if (s->graded)
-        graded_reach(s);
-    return 0;
+    /* over several processes the particles migrate first (collective); the
+     * rest is this rank's, and every rank learns whether any failed */
+    int failed = s->domain.active && solver_domain_exchange(s, error, error_size);
+    failed =
+        failed || solver_ghosts_rebuild(s, error, error_size) || layout_grid(s, error, error_size);
+    if (!failed) {
+        sort_keys(s);
+        cell_ranges(s);
+        solver_gather_persistent(s);
+        s->moved_since_sort = 0;
+        solver_ghosts_reindex(s);
+        if (s->graded)
+            graded_reach(s);
+    }
+    return dist_agree(failed, error, error_size);
 }
 
 /* Work-items of passes 1 and 2: one per particle, or per lane block. */
@@ -405,6 +423,7 @@ void solver_reduce(struct solver *s, const double load[3], struct reduction *out
     double values[64 * SPH_RED_SLOTS] = {0};
     solver_read_reals(s, s->partials, (size_t)s->reduce_groups * SPH_RED_SLOTS, values);
     combine_partials(s, values, out);
+    solver_domain_reduce(s, out);
 }
 
 void solver_health(struct solver *s, struct health_reading *out)
@@ -424,6 +443,11 @@ void solver_health(struct solver *s, struct health_reading *out)
         for (int k = 0; k < SPH_HEALTH_SLOTS; ++k)
             sums[k] += p[k];
     }
+    double minima[2] = {min_distance, nb_min};
+    dist_min(minima, 2);
+    dist_max(&nb_max, 1);
+    dist_sum(sums, SPH_HEALTH_SLOTS);
+    min_distance = minima[0], nb_min = minima[1];
     const double count = fmax(sums[SPH_HEALTH_PARTICLES], 1.0);
     out->min_pair_distance = min_distance;
     out->clumped_fraction = sums[SPH_HEALTH_CLUMPED] / count;
@@ -447,9 +471,14 @@ void solver_neighbour_counts(struct solver *s, int *count_by_id)
                                  sizeof(int) * (size_t)s->n, count, 0, NULL, NULL));
     CL_CHECK(clEnqueueReadBuffer(s->dev->queue, s->field[FIELD_ID], CL_TRUE, 0,
                                  sizeof(int) * (size_t)s->n, id, 0, NULL, NULL));
+    solver_domain_rows(s, id, s->n);
+    if (s->domain.active) /* every rank fills its own; the sum is the whole */
+        memset(count_by_id, 0, sizeof(int) * (size_t)s->n_scene);
     for (int k = 0; k < s->n; ++k)
-        if (id[k] < s->n_real)
+        if (id[k] >= 0)
             count_by_id[id[k]] = count[k];
+    if (s->domain.active)
+        dist_sum_ints(count_by_id, (size_t)s->n_scene);
     free(count);
     free(id);
 }

@@ -55,7 +55,7 @@ enum sph_flag {
     SPH_FLAG_PROBE = 4,   /* member of the probe group (mean displacement) */
     SPH_FLAG_DAMAGED = 8, /* failed: no deviatoric stress, no tension */
     SPH_FLAG_BAD = 16,    /* NaN or runaway velocity seen here */
-    SPH_FLAG_GHOST = 32   /* mirror image of a real particle (symmetry planes): not integrated */
+    SPH_FLAG_GHOST = 32   /* mirror image (symmetry planes) or MPI halo particle: not integrated */
 };
 
 /* Buckets per block of the sort's prefix sum (kernels/grid.cl,
@@ -79,6 +79,11 @@ enum sph_flag {
 #define SPH_GRID_SPLIT 1
 #define SPH_REACH_SHIFT 12
 #define SPH_REACH_MASK 255
+/* The flag bits a ghost (mirror image or MPI halo particle) keeps of its
+ * source: what a neighbour reads of it (spacing level, search reach,
+ * damage); it gets SPH_FLAG_GHOST besides. */
+#define SPH_GHOST_KEEP_FLAGS                                                                       \
+    ((SPH_LEVEL_MASK << SPH_LEVEL_SHIFT) | (SPH_REACH_MASK << SPH_REACH_SHIFT) | SPH_FLAG_DAMAGED)
 
 /* The rigid projectile (a sphere; kernels/projectile.cl): its state on the
  * device, one real per slot. Position and velocity are the leap-frog's

@@ -10,14 +10,15 @@
  * mirror of its own side, which is what symmetry means (Libersky et al.
  * 1993 use the same images for symmetry boundaries).
  *
- * Ghost g (0 <= g < ghost_count) has id n_real + g; index_of_id maps every
+ * Ghost g (0 <= g < ghost_count) has id first_ghost + g (after the real
+ * particles and any MPI halo, kernels/halo.cl); index_of_id maps every
  * id to its current slot (rebuilt after each sort); ghost_source_id[g] is
  * the id of its real source and ghost_mask[g] has bit a set when axis a is
  * reflected; plane holds the planes' coordinates.
  */
 #define GHOST_ARGS                                                                                 \
     __global const int *restrict ghost_source_id, __global const int *restrict ghost_mask,         \
-        __global const int *restrict index_of_id, const int n_real, const int ghost_count
+        __global const int *restrict index_of_id, const int first_ghost, const int ghost_count
 
 /* reads id; writes index_of_id. */
 __kernel void ghost_index_of_id(__global const int *restrict id, __global int *restrict index_of_id,
@@ -39,23 +40,23 @@ __kernel void ghost_id_keys(__global const int *restrict id, __global ulong *res
         sort_keys[i] = ((ulong)(uint)id[i] << 32) | (ulong)(uint)i;
 }
 
-/* New ghosts occupy slots n_real .. n_real + ghost_count - 1 right after a
- * compaction. writes id, flags of those slots. */
-__kernel void ghost_init(__global int *restrict id, __global int *restrict flags, const int n_real,
-                         const int ghost_count)
+/* New ghosts occupy slots first_ghost .. first_ghost + ghost_count - 1
+ * right after a compaction. writes id, flags of those slots. */
+__kernel void ghost_init(__global int *restrict id, __global int *restrict flags,
+                         const int first_ghost, const int ghost_count)
 {
     const int g = get_global_id(0);
     if (g >= ghost_count)
         return;
-    id[n_real + g] = n_real + g;
-    flags[n_real + g] = SPH_FLAG_GHOST;
+    id[first_ghost + g] = first_ghost + g;
+    flags[first_ghost + g] = SPH_FLAG_GHOST;
 }
 
 #define GHOST_SLOTS                                                                                \
     const int g = get_global_id(0);                                                                \
     if (g >= ghost_count)                                                                          \
         return;                                                                                    \
-    const int dst = index_of_id[n_real + g], src = index_of_id[ghost_source_id[g]];                \
+    const int dst = index_of_id[first_ghost + g], src = index_of_id[ghost_source_id[g]];           \
     const int mask = ghost_mask[g];                                                                \
     (void)mask
 

@@ -1,0 +1,781 @@
+/* One case over many processes (MPI): each rank owns the particles of one
+ * slab of space and runs its own OpenCL device on them (DESIGN.md, "The
+ * next shape"). Halos are ghost slots filled from the neighbouring ranks'
+ * particles, exactly as the symmetry planes' mirror ghosts are filled from
+ * a rank's own (host/ghost.c): the neighbour passes cannot tell them apart.
+ *
+ * At every re-sort (solver_sort) the reals are compacted, read back, and
+ * those whose slab changed are sent to their new owner (MPI_Alltoallv of
+ * whole particle records: every persistent field of the registry); the
+ * slabs are cut again when the largest share passes the mean by
+ * DOMAIN_IMBALANCE; then each rank sends the particles within reach of
+ * another rank's slab to it, and those are the halo until the next sort.
+ * Before each neighbour pass the fields the pass reads across (the
+ * registry's read_across, as for mirrors) are packed on the device,
+ * exchanged and unpacked into the halo slots (kernels/halo.cl).
+ *
+ * The rest of this file wraps the MPI calls, so that no other file needs
+ * <mpi.h>; built without MPI they are the one-process versions. */
+#include "domain.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "launch.h"
+#include "solver.h"
+
+#ifdef SPH_MPI
+#include <mpi.h>
+#endif
+
+/* ---- processes and collectives */
+
+static int world_rank = 0, world_size = 1, mpi_started = 0;
+
+void dist_start(int *argc, char ***argv)
+{
+#ifdef SPH_MPI
+    /* Open MPI's singleton start needs its runtime daemons; a plain `sph`
+     * is the serial program and does not start MPI at all */
+    if (!getenv("OMPI_COMM_WORLD_SIZE") && !getenv("PMI_SIZE") && !getenv("PMIX_RANK"))
+        return;
+    MPI_Init(argc, argv);
+    mpi_started = 1;
+    MPI_Comm_rank(MPI_COMM_WORLD, &world_rank);
+    MPI_Comm_size(MPI_COMM_WORLD, &world_size);
+#else
+    (void)argc, (void)argv;
+#endif
+}
+
+void dist_stop(void)
+{
+#ifdef SPH_MPI
+    if (mpi_started)
+        MPI_Finalize();
+#endif
+    mpi_started = 0;
+}
+
+int dist_rank(void)
+{
+    return world_rank;
+}
+
+int dist_size(void)
+{
+    return world_size;
+}
+
+void dist_abort(int code)
+{
+#ifdef SPH_MPI
+    if (world_size > 1)
+        MPI_Abort(MPI_COMM_WORLD, code);
+#endif
+    exit(code);
+}
+
+#ifdef SPH_MPI
+static void all_reduce(void *v, size_t n, MPI_Datatype type, MPI_Op op)
+{
+    if (world_size == 1 || n == 0)
+        return;
+    /* in pieces below 2^31 elements (MPI's int counts) */
+    const size_t piece = (size_t)1 << 30;
+    int width = 0;
+    MPI_Type_size(type, &width);
+    for (size_t at = 0; at < n; at += piece) {
+        const size_t count = n - at < piece ? n - at : piece;
+        MPI_Allreduce(MPI_IN_PLACE, (char *)v + at * (size_t)width, (int)count, type, op,
+                      MPI_COMM_WORLD);
+    }
+}
+#define ALL_REDUCE(v, n, type, op) all_reduce((v), (n), (type), (op))
+#else
+#define ALL_REDUCE(v, n, type, op) ((void)(v), (void)(n))
+#endif
+
+void dist_sum(double *v, int n)
+{
+    ALL_REDUCE(v, (size_t)n, MPI_DOUBLE, MPI_SUM);
+}
+
+void dist_max(double *v, int n)
+{
+    ALL_REDUCE(v, (size_t)n, MPI_DOUBLE, MPI_MAX);
+}
+
+void dist_min(double *v, int n)
+{
+    ALL_REDUCE(v, (size_t)n, MPI_DOUBLE, MPI_MIN);
+}
+
+void dist_sum_ints(int *v, size_t n)
+{
+    ALL_REDUCE(v, n, MPI_INT, MPI_SUM);
+}
+
+void dist_sum_doubles(double *v, size_t n)
+{
+    ALL_REDUCE(v, n, MPI_DOUBLE, MPI_SUM);
+}
+
+int dist_any(int flag)
+{
+    int v = flag != 0;
+    ALL_REDUCE(&v, 1, MPI_INT, MPI_MAX);
+    return v;
+}
+
+int dist_bcast_int(int value)
+{
+#ifdef SPH_MPI
+    if (world_size > 1)
+        MPI_Bcast(&value, 1, MPI_INT, 0, MPI_COMM_WORLD);
+#endif
+    return value;
+}
+
+int dist_agree(int failed, char *error, size_t size)
+{
+    if (world_size == 1)
+        return failed;
+#ifdef SPH_MPI
+    int first = failed ? world_rank : world_size;
+    MPI_Allreduce(MPI_IN_PLACE, &first, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+    if (first == world_size)
+        return 0;
+    char text[SPH_ERROR_MAX];
+    snprintf(text, sizeof text, "%s", world_rank == first ? error : "");
+    MPI_Bcast(text, (int)sizeof text, MPI_CHAR, first, MPI_COMM_WORLD);
+    snprintf(error, size, "rank %d of %d: %s", first, world_size, text);
+#else
+    (void)error, (void)size;
+#endif
+    return 1;
+}
+
+int dist_exchange(const void *send, const int *send_bytes, void **recv, int *recv_bytes)
+{
+    *recv = NULL;
+#ifdef SPH_MPI
+    const int n = world_size;
+    int *send_at = calloc((size_t)n, sizeof(int)), *recv_at = calloc((size_t)n, sizeof(int));
+    MPI_Alltoall(send_bytes, 1, MPI_INT, recv_bytes, 1, MPI_INT, MPI_COMM_WORLD);
+    size_t total = 0;
+    for (int r = 0; r < n; ++r) {
+        if (send_at && r > 0)
+            send_at[r] = send_at[r - 1] + send_bytes[r - 1];
+        if (recv_at && r > 0)
+            recv_at[r] = recv_at[r - 1] + recv_bytes[r - 1];
+        total += (size_t)recv_bytes[r];
+    }
+    *recv = malloc(total + 1);
+    int failed = !send_at || !recv_at || !*recv;
+    MPI_Allreduce(MPI_IN_PLACE, &failed, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+    if (!failed)
+        MPI_Alltoallv(send, send_bytes, send_at, MPI_BYTE, *recv, recv_bytes, recv_at, MPI_BYTE,
+                      MPI_COMM_WORLD);
+    free(send_at), free(recv_at);
+    return failed;
+#else
+    /* one process: what it sends to itself */
+    recv_bytes[0] = send_bytes[0];
+    *recv = malloc((size_t)send_bytes[0] + 1);
+    if (*recv)
+        memcpy(*recv, send, (size_t)send_bytes[0]);
+    return *recv == NULL;
+#endif
+}
+
+int dist_allgather(const double *mine, int count, double **all, int *total)
+{
+    *all = NULL;
+#ifdef SPH_MPI
+    const int n = world_size;
+    int *counts = calloc((size_t)n, sizeof(int)), *at = calloc((size_t)n, sizeof(int));
+    int failed = !counts || !at;
+    if (!failed) {
+        MPI_Allgather(&count, 1, MPI_INT, counts, 1, MPI_INT, MPI_COMM_WORLD);
+        *total = 0;
+        for (int r = 0; r < n; ++r)
+            at[r] = *total, *total += counts[r];
+        *all = malloc(sizeof(double) * (size_t)*total + 1);
+        failed = !*all;
+    }
+    MPI_Allreduce(MPI_IN_PLACE, &failed, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+    if (!failed)
+        MPI_Allgatherv(mine, count, MPI_DOUBLE, *all, counts, at, MPI_DOUBLE, MPI_COMM_WORLD);
+    free(counts), free(at);
+    return failed;
+#else
+    *total = count;
+    *all = malloc(sizeof(double) * (size_t)count + 1);
+    if (*all)
+        memcpy(*all, mine, sizeof(double) * (size_t)count);
+    return *all == NULL;
+#endif
+}
+
+/* ---- slabs */
+
+static int compare_doubles(const void *a, const void *b)
+{
+    const double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* Cuts halfway between the particles that split `values` (sorted here)
+ * into equal shares. */
+static void cut_equal_shares(struct domain *d, double *values, int n)
+{
+    qsort(values, (size_t)n, sizeof(double), compare_doubles);
+    d->cut[0] = -HUGE_VAL;
+    d->cut[d->size] = HUGE_VAL;
+    for (int r = 1; r < d->size; ++r) {
+        const long k = (long)n * r / d->size;
+        d->cut[r] = k <= 0 ? -HUGE_VAL : k >= n ? HUGE_VAL : 0.5 * (values[k - 1] + values[k]);
+    }
+}
+
+static int owner_of(const struct domain *d, double x)
+{
+    int r = 0;
+    while (r + 1 < d->size && x >= d->cut[r + 1])
+        ++r;
+    return r;
+}
+
+/* Distance from coordinate x to rank r's slab (0 inside it). */
+static double slab_distance(const struct domain *d, int r, double x)
+{
+    return fmax(fmax(d->cut[r] - x, x - d->cut[r + 1]), 0.0);
+}
+
+static double halo_width(const struct solver *s)
+{
+    return s->run.support * (1.0 + s->skin);
+}
+
+static int copy_particle(const struct sph_scene *from, int p, struct sph_scene *to, int q)
+{
+    memcpy(&to->position[3 * q], &from->position[3 * p], 3 * sizeof(double));
+    memcpy(&to->velocity[3 * q], &from->velocity[3 * p], 3 * sizeof(double));
+    to->mass[q] = from->mass[p];
+    to->density[q] = from->density[p];
+    to->material[q] = from->material[p];
+    to->flags[q] = from->flags[p];
+    return q + 1;
+}
+
+/* This rank's particles first, then those within its halo (counted for the
+ * mirror ghosts' room, not uploaded). */
+static int local_scene(struct solver *s, const struct sph_scene *scene, struct sph_scene *local,
+                       int *own)
+{
+    struct domain *d = &s->domain;
+    const size_t n = (size_t)scene->count + 1;
+    *local = *scene;
+    local->position = calloc(3 * n, sizeof(double));
+    local->velocity = calloc(3 * n, sizeof(double));
+    local->mass = calloc(n, sizeof(double));
+    local->density = calloc(n, sizeof(double));
+    local->material = calloc(n, sizeof(int));
+    local->flags = calloc(n, sizeof(int));
+    d->global_id = calloc(n, sizeof(int));
+    if (!local->position || !local->velocity || !local->mass || !local->density ||
+        !local->material || !local->flags || !d->global_id)
+        return 1;
+    int count = 0;
+    for (int p = 0; p < scene->count; ++p)
+        if (owner_of(d, scene->position[3 * p + d->axis]) == d->rank) {
+            d->global_id[count] = p;
+            count = copy_particle(scene, p, local, count);
+        }
+    *own = count;
+    for (int p = 0; p < scene->count; ++p) {
+        const double x = scene->position[3 * p + d->axis];
+        if (owner_of(d, x) != d->rank &&
+            slab_distance(d, d->rank, x) < halo_width(s) * solver_reach_scale(s, scene->flags[p]))
+            count = copy_particle(scene, p, local, count);
+    }
+    local->count = count;
+    return 0;
+}
+
+int solver_domain_setup(struct solver *s, const struct sph_scene *scene, struct sph_scene *local,
+                        char *error, size_t error_size)
+{
+    struct domain *d = &s->domain;
+    memset(local, 0, sizeof *local);
+    d->active = 1;
+    d->rank = dist_rank();
+    d->size = dist_size();
+    d->n_scene = scene->count;
+    double extent = -1;
+    for (int a = 0; a < s->dim; ++a)
+        if (scene->domain_max[a] - scene->domain_min[a] > extent)
+            extent = scene->domain_max[a] - scene->domain_min[a], d->axis = a;
+    d->cut = calloc((size_t)d->size + 1, sizeof(double));
+    d->send_count = calloc((size_t)d->size, sizeof(int));
+    double *x = calloc((size_t)scene->count + 1, sizeof(double));
+    int own = 0;
+    int failed = !d->cut || !d->send_count || !x;
+    if (!failed) {
+        for (int p = 0; p < scene->count; ++p)
+            x[p] = scene->position[3 * p + d->axis];
+        cut_equal_shares(d, x, scene->count);
+        failed = local_scene(s, scene, local, &own);
+    }
+    free(x);
+    if (failed)
+        return snprintf(error, error_size, "out of host memory for the domain of rank %d",
+                        d->rank) > 0;
+    d->halo_capacity = 2 * (local->count - own) + 256;
+    d->initial_reals = own; /* solver_domain_size: after the mirrors' setup */
+    return 0;
+}
+
+void solver_domain_size(struct solver *s)
+{
+    struct domain *d = &s->domain;
+    /* room for the share to grow up to the imbalance that cuts the slabs
+     * again, and for the halos to thicken */
+    const int reals = (int)((1.0 + 2.0 * DOMAIN_IMBALANCE) * d->n_scene / d->size) + 256;
+    s->n_real = s->n = d->initial_reals;
+    s->capacity = reals + d->halo_capacity + s->ghosts.capacity;
+}
+
+/* ---- particle records: every persistent field of the registry */
+
+struct records {
+    int fields[FIELD_COUNT], field_count;
+    size_t bytes; /* one record: the scene index, then each field's element */
+    int count;    /* records held */
+    unsigned char *data;
+};
+
+static void record_layout(const struct solver *s, struct records *r)
+{
+    r->field_count = 0;
+    r->bytes = sizeof(int);
+    for (int f = 0; f < FIELD_COUNT; ++f)
+        if (field_table[f].persistent && solver_field_used(s, (enum field)f)) {
+            r->fields[r->field_count++] = f;
+            r->bytes += s->element_size[field_table[f].kind];
+        }
+}
+
+/* The reals (slots 0 .. n_real - 1 after the compaction) as records. */
+static int read_records(struct solver *s, struct records *r)
+{
+    const size_t n = (size_t)s->n_real;
+    r->data = calloc(n * r->bytes + 1, 1);
+    size_t largest = 0;
+    for (int k = 0; k < r->field_count; ++k)
+        largest = fmax(largest, s->element_size[field_table[r->fields[k]].kind]);
+    unsigned char *raw = calloc(n * largest + 1, 1);
+    if (!r->data || !raw) {
+        free(raw);
+        return 1;
+    }
+    r->count = s->n_real;
+    for (size_t p = 0; p < n; ++p)
+        memcpy(r->data + p * r->bytes, &s->domain.global_id[p], sizeof(int));
+    size_t at = sizeof(int);
+    for (int k = 0; k < r->field_count; ++k) {
+        const size_t e = s->element_size[field_table[r->fields[k]].kind];
+        if (n > 0)
+            CL_CHECK(clEnqueueReadBuffer(s->dev->queue, s->field[r->fields[k]], CL_TRUE, 0, n * e,
+                                         raw, 0, NULL, NULL));
+        for (size_t p = 0; p < n; ++p)
+            memcpy(r->data + p * r->bytes + at, raw + p * e, e);
+        at += e;
+    }
+    free(raw);
+    return 0;
+}
+
+static double record_coordinate(const struct solver *s, const struct records *r,
+                                const unsigned char *record, int axis)
+{
+    size_t at = sizeof(int); /* FIELD_POS is the registry's first field */
+    (void)r;
+    if (s->double_precision) {
+        double v;
+        memcpy(&v, record + at + (size_t)axis * sizeof v, sizeof v);
+        return v;
+    }
+    float v;
+    memcpy(&v, record + at + (size_t)axis * sizeof v, sizeof v);
+    return v;
+}
+
+static int record_flags(const struct solver *s, const struct records *r,
+                        const unsigned char *record)
+{
+    size_t at = sizeof(int);
+    for (int k = 0; k < r->field_count && r->fields[k] != FIELD_FLAGS; ++k)
+        at += s->element_size[field_table[r->fields[k]].kind];
+    int flags;
+    memcpy(&flags, record + at, sizeof flags);
+    return flags;
+}
+
+/* Records grouped by destination rank (rank order) and sent; `dest` per
+ * record, -1 for none. The received records follow in rank order. */
+static int send_records(const struct domain *d, const struct records *from, const int *dest,
+                        struct records *to)
+{
+    int *bytes = calloc((size_t)d->size, sizeof(int)), *back = calloc((size_t)d->size, sizeof(int));
+    size_t total = 0;
+    for (int p = 0; p < from->count; ++p)
+        total += dest[p] >= 0;
+    unsigned char *out = calloc(total * from->bytes + 1, 1);
+    int failed = !bytes || !back || !out;
+    if (!failed) {
+        size_t at = 0;
+        for (int r = 0; r < d->size; ++r)
+            for (int p = 0; p < from->count; ++p)
+                if (dest[p] == r) {
+                    memcpy(out + at, from->data + (size_t)p * from->bytes, from->bytes);
+                    at += from->bytes;
+                    bytes[r] += (int)from->bytes;
+                }
+    }
+    void *in = NULL;
+    failed = dist_exchange(out, bytes, &in, back) || failed;
+    *to = *from;
+    to->data = in;
+    to->count = 0;
+    for (int r = 0; r < d->size && !failed; ++r)
+        to->count += back[r] / (int)from->bytes;
+    free(bytes), free(back), free(out);
+    return failed;
+}
+
+/* Writes the new reals and halos into the field buffers (slots = local
+ * ids); a halo keeps the flag bits a mirror keeps (ghost.c). */
+static void write_records(struct solver *s, const struct records *reals, const struct records *halo)
+{
+    const int n = reals->count + halo->count;
+    size_t at = sizeof(int);
+    for (int k = 0; k < reals->field_count; ++k) {
+        const int f = reals->fields[k];
+        const size_t e = s->element_size[field_table[f].kind];
+        unsigned char *raw = calloc((size_t)n * e + 1, 1);
+        if (!raw)
+            return;
+        for (int p = 0; p < n; ++p) {
+            const struct records *r = p < reals->count ? reals : halo;
+            const int q = p < reals->count ? p : p - reals->count;
+            memcpy(raw + (size_t)p * e, r->data + (size_t)q * r->bytes + at, e);
+            if (f == FIELD_ID)
+                memcpy(raw + (size_t)p * e, &p, sizeof p);
+            if (f == FIELD_FLAGS && p >= reals->count) {
+                int flags;
+                memcpy(&flags, raw + (size_t)p * e, sizeof flags);
+                flags = (flags & SPH_GHOST_KEEP_FLAGS) | SPH_FLAG_GHOST;
+                memcpy(raw + (size_t)p * e, &flags, sizeof flags);
+            }
+        }
+        if (n > 0)
+            CL_CHECK(clEnqueueWriteBuffer(s->dev->queue, s->field[f], CL_TRUE, 0, (size_t)n * e,
+                                          raw, 0, NULL, NULL));
+        free(raw);
+        at += e;
+    }
+}
+
+/* The reals this rank keeps, then those it received. */
+static int merge_records(const struct records *kept_from, const int *dest, int rank,
+                         const struct records *received, struct records *out)
+{
+    *out = *kept_from;
+    out->count = 0;
+    for (int p = 0; p < kept_from->count; ++p)
+        out->count += dest[p] == rank;
+    out->count += received->count;
+    out->data = malloc((size_t)out->count * out->bytes + 1);
+    if (!out->data)
+        return 1;
+    int q = 0;
+    for (int p = 0; p < kept_from->count; ++p)
+        if (dest[p] == rank)
+            memcpy(out->data + (size_t)q++ * out->bytes, kept_from->data + (size_t)p * out->bytes,
+                   out->bytes);
+    memcpy(out->data + (size_t)q * out->bytes, received->data,
+           (size_t)received->count * out->bytes);
+    return 0;
+}
+
+/* Cuts the slabs again when the shares have drifted apart: every rank's
+ * coordinates along the axis, gathered and split into equal shares. */
+static int rebalance(struct solver *s, const struct records *r)
+{
+    struct domain *d = &s->domain;
+    double share[2] = {r->count, r->count};
+    dist_max(&share[0], 1);
+    dist_sum(&share[1], 1);
+    if (share[0] <= (1.0 + DOMAIN_IMBALANCE) * share[1] / d->size)
+        return 0;
+    double *mine = malloc(sizeof(double) * (size_t)r->count + 1), *all = NULL;
+    int total = 0, failed = !mine;
+    for (int p = 0; mine && p < r->count; ++p)
+        mine[p] = record_coordinate(s, r, r->data + (size_t)p * r->bytes, d->axis);
+    failed = dist_allgather(mine, mine ? r->count : 0, &all, &total) || failed;
+    if (!failed) {
+        cut_equal_shares(d, all, total);
+        ++d->rebalances;
+    }
+    free(mine), free(all);
+    return failed;
+}
+
+/* Halo send lists: each real within reach of another rank's slab goes to
+ * that rank (a particle may go to several), grouped by rank; *send_ids
+ * holds their local ids in the same order. Received halos into `halo`. */
+static int halo_records(struct solver *s, const struct records *reals, struct records *halo,
+                        int **send_ids)
+{
+    struct domain *d = &s->domain;
+    int total = 0;
+    memset(d->send_count, 0, sizeof(int) * (size_t)d->size);
+    for (int r = 0; r < d->size; ++r)
+        for (int p = 0; p < reals->count && r != d->rank; ++p) {
+            const unsigned char *rec = reals->data + (size_t)p * reals->bytes;
+            const double x = record_coordinate(s, reals, rec, d->axis);
+            if (slab_distance(d, r, x) <
+                halo_width(s) * solver_reach_scale(s, record_flags(s, reals, rec)))
+                ++total, ++d->send_count[r];
+        }
+    struct records out = *reals;
+    out.count = total;
+    out.data = malloc((size_t)total * reals->bytes + 1);
+    int *dest = calloc((size_t)total + 1, sizeof(int));
+    *send_ids = malloc(sizeof(int) * (size_t)total + 1);
+    int failed = !out.data || !dest || !*send_ids;
+    for (int r = 0, q = 0; r < d->size && !failed; ++r)
+        for (int p = 0; p < reals->count && r != d->rank; ++p) {
+            const unsigned char *rec = reals->data + (size_t)p * reals->bytes;
+            const double x = record_coordinate(s, reals, rec, d->axis);
+            if (!(slab_distance(d, r, x) <
+                  halo_width(s) * solver_reach_scale(s, record_flags(s, reals, rec))))
+                continue;
+            memcpy(out.data + (size_t)q * reals->bytes, rec, reals->bytes);
+            (*send_ids)[q] = p;
+            dest[q++] = r;
+        }
+    if (failed) /* every rank still takes part in the exchange */
+        out.count = 0;
+    failed = send_records(d, &out, dest, halo) || failed;
+    d->send_total = total;
+    free(dest);
+    free(out.data);
+    return failed;
+}
+
+/* The halo's device side: the send ids and the staging buffers. */
+static void halo_buffers(struct solver *s, const int *send_ids)
+{
+    struct domain *d = &s->domain;
+    solver_release_buffer(&d->send_ids);
+    d->send_ids = solver_create_buffer(s, sizeof(cl_int) * ((size_t)d->send_total + 1));
+    if (d->send_total > 0)
+        CL_CHECK(clEnqueueWriteBuffer(s->dev->queue, d->send_ids, CL_TRUE, 0,
+                                      sizeof(cl_int) * (size_t)d->send_total, send_ids, 0, NULL,
+                                      NULL));
+    struct records layout;
+    record_layout(s, &layout);
+    const size_t words = (layout.bytes / 4) *
+                         (size_t)(d->send_total > d->halo_count ? d->send_total : d->halo_count);
+    if (words <= d->staging_words && d->staging_out)
+        return;
+    d->staging_words = words + words / 4 + 64;
+    solver_release_buffer(&d->staging_out);
+    solver_release_buffer(&d->staging_in);
+    d->staging_out = solver_create_buffer(s, 4 * d->staging_words);
+    d->staging_in = solver_create_buffer(s, 4 * d->staging_words);
+}
+
+int solver_domain_exchange(struct solver *s, char *error, size_t error_size)
+{
+    struct domain *d = &s->domain;
+    solver_compact(s); /* reals in slots 0 .. n_real - 1, slot = local id */
+    struct records reals = {0}, received = {0}, merged = {0}, halo = {0};
+    record_layout(s, &reals);
+    int failed = read_records(s, &reals);
+    failed = rebalance(s, &reals) || failed;
+    int *dest = calloc((size_t)reals.count + 1, sizeof(int)), *send_ids = NULL;
+    long leaving = 0;
+    for (int p = 0; dest && p < reals.count; ++p) {
+        dest[p] = owner_of(
+            d, record_coordinate(s, &reals, reals.data + (size_t)p * reals.bytes, d->axis));
+        leaving += dest[p] != d->rank;
+    }
+    failed = !dest || failed;
+    /* the particles that leave; failed ranks send nothing but take part */
+    int *away = calloc((size_t)reals.count + 1, sizeof(int));
+    for (int p = 0; away && p < reals.count; ++p)
+        away[p] = failed || dest[p] == d->rank ? -1 : dest[p];
+    failed = !away || send_records(d, &reals, away, &received) || failed;
+    failed = failed || merge_records(&reals, dest, d->rank, &received, &merged);
+    double moved = (double)leaving;
+    dist_sum(&moved, 1);
+    d->migrated += (long)moved;
+    if (failed)
+        merged.count = 0; /* the halo exchange still runs, empty */
+    failed = halo_records(s, &merged, &halo, &send_ids) || failed;
+    const int room = s->capacity - s->ghosts.capacity;
+    if (!failed && merged.count + halo.count > room)
+        failed = snprintf(error, error_size,
+                          "its %d particles and %d halo particles outgrew the %d slots made for "
+                          "them (the shares drifted apart faster than the slabs were re-cut)",
+                          merged.count, halo.count, room) > 0;
+    else if (failed)
+        snprintf(error, error_size, "out of host memory exchanging particles");
+    if (!failed) {
+        write_records(s, &merged, &halo);
+        free(d->global_id);
+        d->global_id = malloc(sizeof(int) * (size_t)merged.count + 1);
+        for (int p = 0; d->global_id && p < merged.count; ++p)
+            memcpy(&d->global_id[p], merged.data + (size_t)p * merged.bytes, sizeof(int));
+        s->n_real = merged.count;
+        d->halo_count = halo.count;
+        s->n = s->n_real + d->halo_count;
+        halo_buffers(s, send_ids);
+    }
+    free(dest), free(away), free(send_ids);
+    free(reals.data), free(received.data), free(merged.data), free(halo.data);
+    return failed;
+}
+
+/* ---- halo refresh */
+
+/* Copies the listed fields (all when fields is NULL) that the neighbour
+ * passes read across from their owners into the halo slots: one record of
+ * those fields per halo particle, packed on the device, exchanged, and
+ * unpacked (kernels/halo.cl). */
+void solver_domain_refresh(struct solver *s, const enum field *fields, int count)
+{
+    struct domain *d = &s->domain;
+    if (!d->active)
+        return;
+    int list[FIELD_COUNT], listed = 0, words[FIELD_COUNT], record = 0;
+    for (int k = 0; k < (fields ? count : FIELD_COUNT); ++k) {
+        const int f = fields ? (int)fields[k] : k;
+        if (!solver_field_mirrored(s, (enum field)f))
+            continue;
+        words[listed] = (int)(s->element_size[field_table[f].kind] / 4);
+        record += words[listed];
+        list[listed++] = f;
+    }
+    if (listed == 0)
+        return;
+    for (int k = 0, offset = 0; k < listed && d->send_total > 0; offset += words[k++]) {
+        SET_ARGS(s, d->pack, MEM("source", s->field[list[k]]), INT("words", words[k]),
+                 INT("record_words", record), INT("offset", offset), MEM("send_ids", d->send_ids),
+                 MEM("index_of_id", s->ghosts.index_of_id), MEM("staging", d->staging_out),
+                 INT("count", d->send_total));
+        solver_launch(s, d->pack, (size_t)d->send_total, 0);
+    }
+    const size_t out_bytes = 4 * (size_t)record * (size_t)d->send_total;
+    unsigned *host = malloc(out_bytes + 4);
+    int *bytes = calloc((size_t)d->size, sizeof(int)), *back = calloc((size_t)d->size, sizeof(int));
+    if (host && out_bytes > 0)
+        CL_CHECK(clEnqueueReadBuffer(s->dev->queue, d->staging_out, CL_TRUE, 0, out_bytes, host, 0,
+                                     NULL, NULL));
+    for (int r = 0; bytes && r < d->size; ++r)
+        bytes[r] = host ? 4 * record * d->send_count[r] : 0;
+    void *in = NULL;
+    const int failed = !host || !bytes || !back || dist_exchange(host, bytes, &in, back);
+    if (failed)
+        ALLOC_FAILED("the halo exchange", out_bytes);
+    else if (d->halo_count > 0)
+        CL_CHECK(clEnqueueWriteBuffer(s->dev->queue, d->staging_in, CL_TRUE, 0,
+                                      4 * (size_t)record * (size_t)d->halo_count, in, 0, NULL,
+                                      NULL));
+    free(host), free(bytes), free(back), free(in);
+    const cl_int all = ~0, none = 0, keep = SPH_GHOST_KEEP_FLAGS, ghost = SPH_FLAG_GHOST;
+    const cl_int first = s->n_real;
+    for (int k = 0, offset = 0; k < listed && d->halo_count > 0 && !failed; offset += words[k++]) {
+        const int flags = list[k] == FIELD_FLAGS;
+        const cl_int keep_bits = flags ? keep : all, set_bits = flags ? ghost : none;
+        SET_ARGS(s, d->unpack, MEM("target", s->field[list[k]]), INT("words", words[k]),
+                 INT("record_words", record), INT("offset", offset), MEM("staging", d->staging_in),
+                 MEM("index_of_id", s->ghosts.index_of_id), INT("first_id", first),
+                 INT("count", d->halo_count), INT("keep", keep_bits), INT("set", set_bits));
+        solver_launch(s, d->unpack, (size_t)d->halo_count, 0);
+    }
+}
+
+/* ---- the step's reductions over every rank */
+
+void solver_domain_reduce(const struct solver *s, struct reduction *r)
+{
+    const struct domain *d = &s->domain;
+    if (!d->active)
+        return;
+    double sums[17] = {r->load_power, r->kinetic,       r->internal,
+                       r->wall_power, r->viscous_power, r->hourglass_power};
+    for (int a = 0; a < 3; ++a) {
+        sums[6 + a] = r->probe_displacement[a];
+        sums[9 + a] = r->momentum[a];
+        sums[12 + a] = r->wall_force[a];
+    }
+    dist_sum(sums, 15);
+    r->load_power = sums[0], r->kinetic = sums[1], r->internal = sums[2];
+    r->wall_power = sums[3], r->viscous_power = sums[4], r->hourglass_power = sums[5];
+    for (int a = 0; a < 3; ++a) {
+        r->probe_displacement[a] = sums[6 + a];
+        r->momentum[a] = sums[9 + a];
+        r->wall_force[a] = sums[12 + a];
+    }
+    double maxima[3] = {r->max_signal, r->max_speed, r->max_drift_speed};
+    dist_max(maxima, 3);
+    r->max_signal = maxima[0], r->max_speed = maxima[1], r->max_drift_speed = maxima[2];
+    /* the scene index of the lowest unhealthy particle anywhere */
+    double bad = r->bad_id >= 0 && r->bad_id < s->n_real ? d->global_id[r->bad_id] : HUGE_VAL;
+    dist_min(&bad, 1);
+    r->bad_id = isfinite(bad) ? (long)bad : -1;
+}
+
+/* Scene index of each slot (-1: a ghost or halo slot) from the slots' ids. */
+void solver_domain_rows(const struct solver *s, int *row_of_slot, int n)
+{
+    for (int k = 0; k < n; ++k) {
+        const int id = row_of_slot[k];
+        row_of_slot[k] = id >= s->n_real ? -1 : s->domain.active ? s->domain.global_id[id] : id;
+    }
+}
+
+/* ---- set-up and release */
+
+static void domain_kernels(struct solver *s, int make)
+{
+    struct domain *d = &s->domain;
+    const struct kernel_slot list[] = {
+        {&d->pack, d->active ? "halo_pack" : NULL, 0},
+        {&d->unpack, d->active ? "halo_unpack" : NULL, 0},
+    };
+    solver_kernels(s, list, (int)(sizeof list / sizeof list[0]), make);
+}
+
+void solver_domain_create(struct solver *s)
+{
+    domain_kernels(s, 1);
+}
+
+void solver_domain_release(struct solver *s)
+{
+    struct domain *d = &s->domain;
+    domain_kernels(s, 0);
+    solver_release_buffer(&d->send_ids);
+    solver_release_buffer(&d->staging_out);
+    solver_release_buffer(&d->staging_in);
+    free(d->cut), free(d->global_id), free(d->send_count);
+    d->cut = NULL, d->global_id = NULL, d->send_count = NULL;
+}

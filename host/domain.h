@@ -1,0 +1,63 @@
+/* One case over many processes (MPI): the processes, their collectives,
+ * and the spatial domains (host/domain.c). Without MPI, or without a
+ * launcher, there is one process and every call here is trivial. */
+#ifndef SPH_DOMAIN_H
+#define SPH_DOMAIN_H
+
+#include <stddef.h>
+
+#include "device.h"
+
+/* MPI_Init under a launcher (mpirun sets its variables); a plain `sph run`
+ * stays one process without MPI's runtime. dist_stop at the end of main. */
+void dist_start(int *argc, char ***argv);
+void dist_stop(void);
+int dist_rank(void);
+int dist_size(void);
+/* Ends every process of the job with `code` (MPI_Abort), or this one. */
+void dist_abort(int code);
+
+/* Collectives over every process (in place; no-ops on one). */
+void dist_sum(double *v, int n);
+void dist_max(double *v, int n);
+void dist_min(double *v, int n);
+void dist_sum_ints(int *v, size_t n);
+void dist_sum_doubles(double *v, size_t n);
+int dist_any(int flag);
+int dist_bcast_int(int value); /* rank 0's */
+/* Whether any process failed: the lowest failing rank's `error` (with its
+ * rank) becomes every process's. */
+int dist_agree(int failed, char *error, size_t size);
+/* Every process sends send_bytes[r] bytes of `send` (blocks in rank order)
+ * to rank r and gets recv_bytes[r] from it into *recv (allocated here,
+ * freed by the caller). Returns non-zero when out of host memory. */
+int dist_exchange(const void *send, const int *send_bytes, void **recv, int *recv_bytes);
+/* Every process's `count` doubles, in rank order, into *all (allocated). */
+int dist_allgather(const double *mine, int count, double **all, int *total);
+
+/* The spatial domains: slabs normal to one axis, one per rank, cut so each
+ * holds an equal share of the particles and cut again when the shares
+ * drift apart (DOMAIN_IMBALANCE). Ghost slots after the real particles hold
+ * the halo: the particles of other ranks within a support (plus the grid's
+ * skin) of this rank's slab, refreshed before each neighbour pass. */
+#define DOMAIN_IMBALANCE 0.1 /* largest share over the mean, less one */
+struct domain {
+    int active; /* more than one process */
+    int rank, size;
+    int axis;          /* slabs are cut normal to it */
+    double *cut;       /* size + 1 slab boundaries along axis, m (first -inf, last +inf) */
+    int n_scene;       /* particles of the whole case */
+    int initial_reals; /* this rank's share of the scene */
+    int *global_id;    /* scene index of each local real particle (local id) */
+    int halo_count;    /* halo slots in use, ids n_real .. n_real + halo_count - 1 */
+    int halo_capacity;
+    int *send_count; /* halo particles to each rank */
+    int send_total;
+    long migrated;  /* particles that changed rank, all ranks, whole run */
+    int rebalances; /* times the slabs were cut again */
+    cl_mem send_ids, staging_out, staging_in;
+    size_t staging_words; /* of each staging buffer */
+    cl_kernel pack, unpack;
+};
+
+#endif
