@@ -14,14 +14,40 @@ static double dot3(const double a[3], const double b[3])
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
+/* `count` doubles into a buffer of device reals. */
+static void write_reals(struct solver *s, cl_mem m, const double *values, size_t count)
+{
+    float *narrow = s->double_precision ? NULL : CHECKED_CALLOC(count, sizeof(float), "reals");
+    if (!s->double_precision && !narrow)
+        return;
+    for (size_t k = 0; narrow && k < count; ++k)
+        narrow[k] = (float)values[k];
+    CL_CHECK(clEnqueueWriteBuffer(s->dev->queue, m, CL_TRUE, 0, s->element_size[ELEM_REAL] * count,
+                                  s->double_precision ? (const void *)values : (const void *)narrow,
+                                  0, NULL, NULL));
+    free(narrow);
+}
+
 static void write_state(struct solver *s, const double *values)
 {
-    float narrow[SPH_PROJ_SLOTS];
-    for (int k = 0; k < SPH_PROJ_SLOTS; ++k)
-        narrow[k] = (float)values[k];
-    CL_CHECK(clEnqueueWriteBuffer(
-        s->dev->queue, s->projectile.state, CL_TRUE, 0, s->element_size[ELEM_REAL] * SPH_PROJ_SLOTS,
-        s->double_precision ? (const void *)values : (const void *)narrow, 0, NULL, NULL));
+    write_reals(s, s->projectile.state, values, SPH_PROJ_SLOTS);
+}
+
+/* Over several processes: every rank's contact sums, in the first group's
+ * slots (the others zeroed), so that each rank's projectile_advance moves
+ * the same sphere by the same force. */
+static void global_contact_sums(struct solver *s)
+{
+    struct projectile *p = &s->projectile;
+    const size_t count = (size_t)s->reduce_groups * SPH_CONTACT_SLOTS;
+    double v[64 * SPH_CONTACT_SLOTS] = {0}, sum[SPH_CONTACT_SLOTS] = {0};
+    solver_read_reals(s, p->contact_partials, count, v);
+    for (size_t k = 0; k < count; ++k)
+        sum[k % SPH_CONTACT_SLOTS] += v[k];
+    dist_sum(sum, SPH_CONTACT_SLOTS);
+    memset(v, 0, sizeof v);
+    memcpy(v, sum, sizeof sum);
+    write_reals(s, p->contact_partials, v, count);
 }
 
 /* Whole-model factors: a 2-D particle is per metre of thickness or (axi)
@@ -186,6 +212,8 @@ void solver_projectile_contact(struct solver *s, double dt, double dt_prev)
              INT("n", s->n));
     solver_launch(s, s->k.projectile_contact, (size_t)s->reduce_groups * REDUCE_GROUP,
                   REDUCE_GROUP);
+    if (s->domain.active)
+        global_contact_sums(s);
 }
 
 void solver_projectile_advance(struct solver *s, double dt, double dt_prev)
@@ -224,6 +252,8 @@ static void read_cavity(struct solver *s, struct projectile_reading *out)
             empty = fmin(empty, v[g * width + 2 * k]);
             damaged = fmax(damaged, v[g * width + 2 * k + 1]);
         }
+        dist_min(&empty, 1); /* over every rank's particles */
+        dist_max(&damaged, 1);
         out->cavity_d1[k] = isfinite(empty) ? 2 * empty : 0.0;
         out->cavity_d2[k] = 2 * damaged;
     }

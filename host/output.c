@@ -225,6 +225,8 @@ void output_history(struct output *o, const struct history_row *r)
 int output_ballistics_open(struct output *o, const struct projectile *p, char *error,
                            size_t error_size)
 {
+    if (o->silent)
+        return 0;
     char path[SPH_PATH_MAX + 64];
     snprintf(path, sizeof path, "%s/ballistics.csv", o->folder);
     o->ballistics = fopen(path, "w");
@@ -248,6 +250,8 @@ int output_ballistics_open(struct output *o, const struct projectile *p, char *e
 
 void output_ballistics(struct output *o, const struct ballistics_row *r)
 {
+    if (o->silent)
+        return;
     const struct projectile_reading *p = &r->p;
     double force = 0;
     for (int a = 0; a < 3; ++a)

@@ -683,7 +683,6 @@ static int multi_process_limits(const struct sph_case *c, char *error, size_t si
     const char *missing =
         c->numerics.total_lagrangian
             ? "numerics.formulation: total_lagrangian (its reference neighbours do not migrate)"
-        : c->projectile.enabled             ? "a projectile (its contact sums are not yet global)"
         : c->output.checkpoint_interval > 0 ? "checkpoints (output.checkpoint_interval)"
                                             : NULL;
     if (!missing) {
