@@ -1,6 +1,7 @@
 /* OpenCL device layer. Every call is checked; failures name the call, the
  * error, the file and the line (as the Khronos OpenCL-SDK samples do). */
 #include "device.h"
+#include "domain.h"
 #include "sph_case.h" /* sph_shared.h: the reduction slots */
 
 #include <errno.h>
@@ -253,8 +254,13 @@ static int select_device(const struct device_entry *entries, int count, const ch
         return -1;
     }
     if (!selector) {
+        /* over several processes each rank on a node takes its own GPU
+         * (its rank on the node modulo the GPUs): the first for one process */
+        int gpus = 0;
         for (int i = 0; i < count; ++i)
-            if (strcmp(device_type_name(entries[i].device), "GPU") == 0)
+            gpus += strcmp(device_type_name(entries[i].device), "GPU") == 0;
+        for (int i = 0, k = gpus ? dist_local_rank() % gpus : 0; i < count; ++i)
+            if (strcmp(device_type_name(entries[i].device), "GPU") == 0 && k-- == 0)
                 return i;
         for (int i = 0; i < count; ++i)
             if (strcmp(device_type_name(entries[i].device), "CPU") == 0)

@@ -69,6 +69,15 @@ int dist_size(void)
     return world_size;
 }
 
+int dist_local_rank(void)
+{
+    const char *names[] = {"OMPI_COMM_WORLD_LOCAL_RANK", "MPI_LOCALRANKID", "SLURM_LOCALID"};
+    for (int k = 0; world_size > 1 && k < 3; ++k)
+        if (getenv(names[k]))
+            return atoi(getenv(names[k]));
+    return world_size > 1 ? world_rank : 0;
+}
+
 void dist_abort(int code)
 {
 #ifdef SPH_MPI
@@ -683,6 +692,7 @@ void solver_domain_refresh(struct solver *s, const enum field *fields, int count
         solver_launch(s, d->pack, (size_t)d->send_total, 0);
     }
     const size_t out_bytes = 4 * (size_t)record * (size_t)d->send_total;
+    d->halo_bytes_sent += (double)out_bytes;
     unsigned *host = malloc(out_bytes + 4);
     int *bytes = calloc((size_t)d->size, sizeof(int)), *back = calloc((size_t)d->size, sizeof(int));
     if (host && out_bytes > 0)
@@ -778,4 +788,13 @@ void solver_domain_release(struct solver *s)
     solver_release_buffer(&d->staging_in);
     free(d->cut), free(d->global_id), free(d->send_count);
     d->cut = NULL, d->global_id = NULL, d->send_count = NULL;
+}
+
+void solver_domain_figures(const struct solver *s, double *halo_particles, double *halo_bytes)
+{
+    const struct domain *d = &s->domain;
+    double v[2] = {d->halo_count, d->halo_bytes_sent};
+    dist_sum(v, 2); /* means over the ranks */
+    *halo_particles = d->active ? v[0] / d->size : 0;
+    *halo_bytes = d->active ? v[1] / d->size : 0;
 }

@@ -14,6 +14,9 @@ void dist_start(int *argc, char ***argv);
 void dist_stop(void);
 int dist_rank(void);
 int dist_size(void);
+/* This process's rank among those on its node (the launcher's variable), 0
+ * for one process. */
+int dist_local_rank(void);
 /* Ends every process of the job with `code` (MPI_Abort), or this one. */
 void dist_abort(int code);
 
@@ -53,8 +56,9 @@ struct domain {
     int halo_capacity;
     int *send_count; /* halo particles to each rank */
     int send_total;
-    long migrated;  /* particles that changed rank, all ranks, whole run */
-    int rebalances; /* times the slabs were cut again */
+    long migrated;          /* particles that changed rank, all ranks, whole run */
+    double halo_bytes_sent; /* by this rank's halo refreshes, whole run */
+    int rebalances;         /* times the slabs were cut again */
     cl_mem send_ids, staging_out, staging_in;
     size_t staging_words; /* of each staging buffer */
     cl_kernel pack, unpack;

@@ -695,8 +695,10 @@ int output_summary(struct output *o, const struct run_summary *s)
     fprintf(f, "  \"bytes_per_particle\": %zu,\n", s->bytes_per_particle);
     fprintf(f, "  \"processes\": %d,\n", s->processes);
     if (s->processes > 1)
-        fprintf(f, "  \"migrated_particles\": %ld,\n  \"rebalances\": %d,\n", s->migrated_particles,
-                s->rebalances);
+        fprintf(f,
+                "  \"migrated_particles\": %ld,\n  \"rebalances\": %d,\n"
+                "  \"halo_particles_per_rank\": %.1f,\n  \"halo_bytes_per_step_per_rank\": %.6g,\n",
+                s->migrated_particles, s->rebalances, s->halo_particles, s->halo_bytes_per_step);
     json_number(f, "end_time_s", s->end_time, 0);
     json_number(f, "wall_time_s", s->wall_time_s, 0);
     json_number(f, "steps_per_s", s->steps_per_s, 0);

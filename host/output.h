@@ -72,10 +72,12 @@ struct run_summary {
     int particles, dimension;
     long steps;
     double end_time, wall_time_s, steps_per_s;
-    size_t bytes_per_particle; /* of this rank's slots (rank 0 over several processes) */
-    int processes;             /* MPI ranks (1: the serial run) */
-    long migrated_particles;   /* over several processes: changes of rank, whole run */
-    int rebalances;            /* times the slabs were cut again */
+    size_t bytes_per_particle;  /* of this rank's slots (rank 0 over several processes) */
+    int processes;              /* MPI ranks (1: the serial run) */
+    long migrated_particles;    /* over several processes: changes of rank, whole run */
+    int rebalances;             /* times the slabs were cut again */
+    double halo_particles;      /* per rank, mean over the ranks, at the end */
+    double halo_bytes_per_step; /* sent by each rank's halo refreshes, mean */
     int has_probe;
     const char *probe_name;
     double probe_final, probe_mean;

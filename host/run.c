@@ -48,6 +48,7 @@ struct loop {
     struct impact_metrics impact;
     struct ballistics_track ballistics;
     struct reduction red;
+    double halo_particles, halo_bytes; /* over several processes, means over the ranks */
     char message[SPH_PATH_MAX + 512];
     const char *status;
 };
@@ -267,6 +268,9 @@ static void finish_summary(struct loop *L, struct run_summary *sum)
     sum->processes = dist_size();
     sum->migrated_particles = L->s->domain.migrated;
     sum->rebalances = L->s->domain.rebalances;
+    const long steps = L->step - L->first_step;
+    sum->halo_particles = L->halo_particles;
+    sum->halo_bytes_per_step = steps > 0 ? L->halo_bytes / steps : 0;
     sum->has_probe = L->c->has_probe;
     sum->probe_name = L->c->has_probe ? L->c->probe.name : "";
     sum->probe_final = L->probe;
@@ -765,6 +769,7 @@ static int run_and_report(struct loop *L, struct run_resources *r)
     sph_profiler = profile;
     const double loop_start = profile_clock();
     int code = time_loop(L);
+    solver_domain_figures(L->s, &L->halo_particles, &L->halo_bytes); /* every rank is here */
     if (profile)
         profile->wall_s = profile_clock() - loop_start;
     sph_profiler = NULL;
@@ -824,7 +829,8 @@ static int open_and_start(struct loop *L, struct run_resources *r, struct checkp
         fprintf(stderr, "sph: %s\n", error);
         return 1;
     }
-    if (solver_create(&r->s, &r->dev, r->c, &r->scene, error, size)) {
+    /* every rank learns whether any could not make its solver */
+    if (dist_agree(solver_create(&r->s, &r->dev, r->c, &r->scene, error, size), error, size)) {
         const int code = report_start_failure(L, r, error);
         return code == 1 ? 2 : code; /* a solver that cannot be made is the device's */
     }

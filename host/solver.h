@@ -358,6 +358,9 @@ int solver_domain_exchange(struct solver *s, char *error, size_t error_size);
 void solver_domain_refresh(struct solver *s, const enum field *fields, int count);
 void solver_domain_reduce(const struct solver *s, struct reduction *r);
 void solver_domain_rows(const struct solver *s, int *row_of_slot, int n);
+/* Means over the ranks (collective): halo particles now, and bytes each
+ * rank's halo refreshes sent over the run. */
+void solver_domain_figures(const struct solver *s, double *halo_particles, double *halo_bytes);
 
 /* The rigid projectile (host/ballistics.c): set-up from the case and the
  * scene, the two launches of a step, and the history's reading. */
