@@ -467,7 +467,9 @@ static int send_records(const struct domain *d, const struct records *from, cons
 }
 
 /* Writes the new reals and halos into the field buffers (slots = local
- * ids); a halo keeps the flag bits a mirror keeps (ghost.c). */
+ * ids); a halo keeps the flag bits a mirror keeps (ghost.c). Each buffer
+ * is written whole, zeros after the halo: oclgrind keeps only the extent of
+ * a buffer's last host write as initialised (host/state.c). */
 static void write_records(struct solver *s, const struct records *reals, const struct records *halo)
 {
     const int n = reals->count + halo->count;
@@ -475,7 +477,7 @@ static void write_records(struct solver *s, const struct records *reals, const s
     for (int k = 0; k < reals->field_count; ++k) {
         const int f = reals->fields[k];
         const size_t e = s->element_size[field_table[f].kind];
-        unsigned char *raw = calloc((size_t)n * e + 1, 1);
+        unsigned char *raw = calloc((size_t)s->capacity * e + 1, 1);
         if (!raw)
             return;
         for (int p = 0; p < n; ++p) {
@@ -491,9 +493,8 @@ static void write_records(struct solver *s, const struct records *reals, const s
                 memcpy(raw + (size_t)p * e, &flags, sizeof flags);
             }
         }
-        if (n > 0)
-            CL_CHECK(clEnqueueWriteBuffer(s->dev->queue, s->field[f], CL_TRUE, 0, (size_t)n * e,
-                                          raw, 0, NULL, NULL));
+        CL_CHECK(clEnqueueWriteBuffer(s->dev->queue, s->field[f], CL_TRUE, 0,
+                                      (size_t)s->capacity * e, raw, 0, NULL, NULL));
         free(raw);
         at += e;
     }
