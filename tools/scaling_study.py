@@ -12,13 +12,16 @@ orthogonal bisection; today's slabs are its one-axis form) and exchanges a
 shell w = support (1 + skin) thick with its 26 neighbours twice a step
 (before each neighbour pass), plus three small reductions (log2 P
 latencies each). Compute time per particle-step is the one-rank
-measurement; the bytes per halo particle per step are the measured ones;
-the network is stated (--bandwidth, --latency). No overlap of exchange and
-work is assumed. Efficiency = compute / (compute + exchange).
+measurement (or --compute-seconds, e.g. a GPU's); the bytes per halo
+particle per step are the measured ones; the network is stated
+(--bandwidth, --latency). No overlap of exchange and work is assumed.
+Efficiency = compute / (compute + exchange). A second efficiency is that of
+today's exchange (host/domain.c), which goes through MPI_Alltoall and
+MPI_Alltoallv over every rank: 2 (P - 1) latencies per refresh.
 
 usage: scaling_study.py [--case CASE] [--set K=V ...] [--ranks 1 2] [--out DIR]
        [--per-rank N ...] [--model-ranks 8 64 512] [--bandwidth GB/s]
-       [--latency us] [--gpu-memory GiB]"""
+       [--latency us] [--gpu-memory GiB] [--compute-seconds S]"""
 import argparse
 import json
 import math
@@ -83,9 +86,11 @@ def model(a, t_particle, bytes_per_halo_particle, bytes_per_particle, support_ov
             exchange = HALO_REFRESHES * (neighbours * a.latency * 1e-6) + volume / (
                 a.bandwidth * 1e9)
             exchange += REDUCTIONS * math.log2(max(p, 2)) * a.latency * 1e-6
+            all_to_all = exchange + HALO_REFRESHES * (2 * (p - 1) - neighbours) * a.latency * 1e-6
             rows.append([n, p, "%.3g" % halo, "%.3g" % (volume / 1e6),
                          "%.3g" % (1e3 * compute), "%.3g" % (1e3 * exchange),
-                         "%.3f" % (compute / (compute + exchange))])
+                         "%.3f" % (compute / (compute + exchange)),
+                         "%.3f" % (compute / (compute + all_to_all))])
     gib = a.gpu_memory * 2 ** 30
     largest = gib / (bytes_per_particle * 1.25)  # room for halo and migration
     return rows, largest
@@ -106,6 +111,8 @@ def main():
                    help="GB/s per rank (default 12.5: 100 Gb/s InfiniBand)")
     p.add_argument("--latency", type=float, default=2.0, help="us per message (default 2)")
     p.add_argument("--gpu-memory", type=float, default=80.0, help="GiB (default 80: H100)")
+    p.add_argument("--compute-seconds", type=float, default=None,
+                   help="s per particle-step for the model (default: the one-rank measurement)")
     a = p.parse_args()
     if a.set is None:
         a.set = ["numerics.dx=1.29e-4", "numerics.h_over_dx=1.2", "numerics.end_time=2.3e-7",
@@ -134,17 +141,21 @@ def main():
     m = with_halo[0]
     bytes_per_halo = m["halo_bytes_per_step_per_rank"] / m["halo_particles_per_rank"]
     t_particle = base["ms_per_step"] * 1e-3 * base["ranks"] / base["particles"]
+    if a.compute_seconds:
+        t_particle = a.compute_seconds
     # the support (1 + skin) in spacings from the case's h / dx (Wendland C2: 2h)
     h_over_dx = next((float(s.split("=")[1]) for s in a.set if s.startswith(
         "numerics.h_over_dx=")), 1.5)
     rows, largest = model(a, t_particle, bytes_per_halo, base["bytes_per_particle"],
                           2 * h_over_dx * 1.2)
-    print("model inputs: %.3g s per particle-step on one core, %.0f bytes per halo particle "
+    print("model inputs: %.3g s per particle-step (one core measured, or --compute-seconds), "
+          "%.0f bytes per halo particle "
           "per step, %.4g GB/s, %.3g us, %d bytes per particle"
           % (t_particle, bytes_per_halo, a.bandwidth, a.latency, base["bytes_per_particle"]))
     studylib.write_table(a.out, "weak_scaling_model",
                          ["particles/rank", "ranks", "halo particles", "halo MB/step",
-                          "compute ms/step", "exchange ms/step", "efficiency"], rows)
+                          "compute ms/step", "exchange ms/step", "efficiency",
+                          "efficiency, today's all-to-all"], rows)
     print("largest case per %.0f GiB GPU: %.3g particles (at %d bytes each, 25%% room for "
           "halo and migration)" % (a.gpu_memory, largest, base["bytes_per_particle"]))
     with open(os.path.join(a.out, "scaling.json"), "w") as f:
