@@ -873,8 +873,15 @@ int run_case(const struct run_options *opt)
                    : open_run(&options, r, error, sizeof error);
     if (!code && k)
         code = same_case(r->c, k, error, sizeof error);
+    /* over several processes every rank stops if any could not open the
+     * run, with the first failing rank's message and the worst status */
+    double worst = code;
+    dist_max(&worst, 1);
+    if (dist_agree(code != 0, error, sizeof error))
+        code = (int)worst;
     if (code) {
-        fprintf(stderr, "sph: %s\n", error);
+        if (dist_rank() == 0)
+            fprintf(stderr, "sph: %s\n", error);
         if (k)
             checkpoint_close(k);
         close_run(r);
