@@ -200,6 +200,33 @@ int dist_exchange(const void *send, const int *send_bytes, void **recv, int *rec
 #endif
 }
 
+void dist_exchange_known(const void *send, const int *send_bytes, void *recv, const int *recv_bytes)
+{
+#ifdef SPH_MPI
+    MPI_Request *requests = malloc(2 * sizeof(MPI_Request) * (size_t)world_size + 1);
+    if (!requests) {
+        fprintf(stderr, "sph: rank %d: out of host memory for MPI requests\n", world_rank);
+        dist_abort(2);
+    }
+    int count = 0;
+    size_t at = 0;
+    for (int r = 0; r < world_size; at += (size_t)recv_bytes[r++])
+        if (recv_bytes[r] > 0)
+            MPI_Irecv((char *)recv + at, recv_bytes[r], MPI_BYTE, r, 17, MPI_COMM_WORLD,
+                      &requests[count++]);
+    at = 0;
+    for (int r = 0; r < world_size; at += (size_t)send_bytes[r++])
+        if (send_bytes[r] > 0)
+            MPI_Isend((const char *)send + at, send_bytes[r], MPI_BYTE, r, 17, MPI_COMM_WORLD,
+                      &requests[count++]);
+    MPI_Waitall(count, requests, MPI_STATUSES_IGNORE);
+    free(requests);
+#else
+    memcpy(recv, send, (size_t)send_bytes[0]);
+    (void)recv_bytes;
+#endif
+}
+
 int dist_allgather(const double *mine, int count, double **all, int *total)
 {
     *all = NULL;
@@ -237,8 +264,23 @@ static int compare_doubles(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-/* Cuts halfway between the particles that split `values` (sorted here)
- * into equal shares. */
+/* The gap between distinct values nearest to index k of sorted `values`:
+ * a cut never falls on a lattice plane, where the device's rounding of the
+ * coordinates would decide the side. */
+static double cut_near(const double *values, long n, long k)
+{
+    long up = k, down = k;
+    while (up < n && values[up] == values[k - 1])
+        ++up;
+    while (down > 1 && values[down - 2] == values[down - 1])
+        --down;
+    if (up < n && (up - k <= k - down || down <= 1))
+        return 0.5 * (values[up - 1] + values[up]);
+    return down > 1 ? 0.5 * (values[down - 2] + values[down - 1]) : -HUGE_VAL;
+}
+
+/* Cuts between the particles that split `values` (sorted here) into equal
+ * shares, at the nearest gap between distinct coordinates. */
 static void cut_equal_shares(struct domain *d, double *values, int n)
 {
     qsort(values, (size_t)n, sizeof(double), compare_doubles);
@@ -246,7 +288,7 @@ static void cut_equal_shares(struct domain *d, double *values, int n)
     d->cut[d->size] = HUGE_VAL;
     for (int r = 1; r < d->size; ++r) {
         const long k = (long)n * r / d->size;
-        d->cut[r] = k <= 0 ? -HUGE_VAL : k >= n ? HUGE_VAL : 0.5 * (values[k - 1] + values[k]);
+        d->cut[r] = k <= 0 ? -HUGE_VAL : k >= n ? HUGE_VAL : cut_near(values, n, k);
     }
 }
 
@@ -330,9 +372,10 @@ int solver_domain_setup(struct solver *s, const struct sph_scene *scene, struct 
             extent = scene->domain_max[a] - scene->domain_min[a], d->axis = a;
     d->cut = calloc((size_t)d->size + 1, sizeof(double));
     d->send_count = calloc((size_t)d->size, sizeof(int));
+    d->recv_count = calloc((size_t)d->size, sizeof(int));
     double *x = calloc((size_t)scene->count + 1, sizeof(double));
     int own = 0;
-    int failed = !d->cut || !d->send_count || !x;
+    int failed = !d->cut || !d->send_count || !d->recv_count || !x;
     if (!failed) {
         for (int p = 0; p < scene->count; ++p)
             x[p] = scene->position[3 * p + d->axis];
@@ -437,32 +480,38 @@ static int record_flags(const struct solver *s, const struct records *r,
 /* Records grouped by destination rank (rank order) and sent; `dest` per
  * record, -1 for none. The received records follow in rank order. */
 static int send_records(const struct domain *d, const struct records *from, const int *dest,
-                        struct records *to)
+                        struct records *to, int *received)
 {
     int *bytes = calloc((size_t)d->size, sizeof(int)), *back = calloc((size_t)d->size, sizeof(int));
+    size_t *at = calloc((size_t)d->size + 1, sizeof(size_t));
     size_t total = 0;
     for (int p = 0; p < from->count; ++p)
         total += dest[p] >= 0;
     unsigned char *out = calloc(total * from->bytes + 1, 1);
-    int failed = !bytes || !back || !out;
+    int failed = !bytes || !back || !at || !out;
     if (!failed) {
-        size_t at = 0;
-        for (int r = 0; r < d->size; ++r)
-            for (int p = 0; p < from->count; ++p)
-                if (dest[p] == r) {
-                    memcpy(out + at, from->data + (size_t)p * from->bytes, from->bytes);
-                    at += from->bytes;
-                    bytes[r] += (int)from->bytes;
-                }
+        for (int p = 0; p < from->count; ++p) /* grouped by rank, in order within each */
+            if (dest[p] >= 0)
+                bytes[dest[p]] += (int)from->bytes;
+        for (int r = 1; r < d->size; ++r)
+            at[r] = at[r - 1] + (size_t)bytes[r - 1];
+        for (int p = 0; p < from->count; ++p)
+            if (dest[p] >= 0) {
+                memcpy(out + at[dest[p]], from->data + (size_t)p * from->bytes, from->bytes);
+                at[dest[p]] += from->bytes;
+            }
     }
     void *in = NULL;
     failed = dist_exchange(out, bytes, &in, back) || failed;
     *to = *from;
     to->data = in;
     to->count = 0;
-    for (int r = 0; r < d->size && !failed; ++r)
+    for (int r = 0; r < d->size && !failed; ++r) {
         to->count += back[r] / (int)from->bytes;
-    free(bytes), free(back), free(out);
+        if (received)
+            received[r] = back[r] / (int)from->bytes;
+    }
+    free(bytes), free(back), free(at), free(out);
     return failed;
 }
 
@@ -581,11 +630,31 @@ static int halo_records(struct solver *s, const struct records *reals, struct re
         }
     if (failed) /* every rank still takes part in the exchange */
         out.count = 0;
-    failed = send_records(d, &out, dest, halo) || failed;
+    failed = send_records(d, &out, dest, halo, d->recv_count) || failed;
     d->send_total = total;
     free(dest);
     free(out.data);
     return failed;
+}
+
+/* The fields of one refresh: those listed (all when NULL) that the
+ * neighbour passes read across, their words per element, the record's. */
+struct halo_record {
+    int field[FIELD_COUNT], words[FIELD_COUNT], count, record_words;
+};
+
+static void halo_record_of(const struct solver *s, const enum field *fields, int count,
+                           struct halo_record *h)
+{
+    h->count = h->record_words = 0;
+    for (int k = 0; k < (fields ? count : FIELD_COUNT); ++k) {
+        const int f = fields ? (int)fields[k] : k;
+        if (!solver_field_mirrored(s, (enum field)f))
+            continue;
+        h->words[h->count] = (int)(s->element_size[field_table[f].kind] / 4);
+        h->record_words += h->words[h->count];
+        h->field[h->count++] = f;
+    }
 }
 
 /* The halo's device side: the send ids and the staging buffers. */
@@ -598,9 +667,9 @@ static void halo_buffers(struct solver *s, const int *send_ids)
         CL_CHECK(clEnqueueWriteBuffer(s->dev->queue, d->send_ids, CL_TRUE, 0,
                                       sizeof(cl_int) * (size_t)d->send_total, send_ids, 0, NULL,
                                       NULL));
-    struct records layout;
-    record_layout(s, &layout);
-    const size_t words = (layout.bytes / 4) *
+    struct halo_record every; /* the largest refresh: every field read across */
+    halo_record_of(s, NULL, 0, &every);
+    const size_t words = (size_t)every.record_words *
                          (size_t)(d->send_total > d->halo_count ? d->send_total : d->halo_count);
     if (words <= d->staging_words && d->staging_out)
         return;
@@ -631,7 +700,7 @@ int solver_domain_exchange(struct solver *s, char *error, size_t error_size)
     int *away = calloc((size_t)reals.count + 1, sizeof(int));
     for (int p = 0; away && p < reals.count; ++p)
         away[p] = failed || dest[p] == d->rank ? -1 : dest[p];
-    failed = !away || send_records(d, &reals, away, &received) || failed;
+    failed = !away || send_records(d, &reals, away, &received, NULL) || failed;
     failed = failed || merge_records(&reals, dest, d->rank, &received, &merged);
     double moved = (double)leaving;
     dist_sum(&moved, 1);
@@ -665,62 +734,77 @@ int solver_domain_exchange(struct solver *s, char *error, size_t error_size)
 
 /* ---- halo refresh */
 
+static void pack_halo(struct solver *s, const struct halo_record *h)
+{
+    struct domain *d = &s->domain;
+    for (int k = 0, offset = 0; k < h->count && d->send_total > 0; offset += h->words[k++]) {
+        SET_ARGS(s, d->pack, MEM("source", s->field[h->field[k]]), INT("words", h->words[k]),
+                 INT("record_words", h->record_words), INT("offset", offset),
+                 MEM("send_ids", d->send_ids), MEM("index_of_id", s->ghosts.index_of_id),
+                 MEM("staging", d->staging_out), INT("count", d->send_total));
+        solver_launch(s, d->pack, (size_t)d->send_total, 0);
+    }
+}
+
+/* staging_out -> host -> the ranks that share a halo -> staging_in. */
+static void exchange_halo(struct solver *s, const struct halo_record *h)
+{
+    struct domain *d = &s->domain;
+    const size_t out_bytes = 4 * (size_t)h->record_words * (size_t)d->send_total;
+    const size_t in_bytes = 4 * (size_t)h->record_words * (size_t)d->halo_count;
+    d->halo_bytes_sent += (double)out_bytes;
+    void *out = malloc(out_bytes + 4), *in = malloc(in_bytes + 4);
+    int *bytes = calloc((size_t)d->size, sizeof(int)), *back = calloc((size_t)d->size, sizeof(int));
+    if (!out || !in || !bytes || !back) { /* the other ranks wait on this one's messages */
+        fprintf(stderr, "sph: rank %d: out of host memory for the halo exchange (%zu bytes)\n",
+                d->rank, out_bytes + in_bytes);
+        dist_abort(2);
+    }
+    if (out_bytes > 0)
+        CL_CHECK(clEnqueueReadBuffer(s->dev->queue, d->staging_out, CL_TRUE, 0, out_bytes, out, 0,
+                                     NULL, NULL));
+    for (int r = 0; r < d->size; ++r) {
+        bytes[r] = 4 * h->record_words * d->send_count[r];
+        back[r] = 4 * h->record_words * d->recv_count[r];
+    }
+    dist_exchange_known(out, bytes, in, back); /* sizes known since the re-sort */
+    if (in_bytes > 0)
+        CL_CHECK(clEnqueueWriteBuffer(s->dev->queue, d->staging_in, CL_TRUE, 0, in_bytes, in, 0,
+                                      NULL, NULL));
+    free(out), free(in), free(bytes), free(back);
+}
+
+static void unpack_halo(struct solver *s, const struct halo_record *h)
+{
+    struct domain *d = &s->domain;
+    const cl_int first = s->n_real;
+    for (int k = 0, offset = 0; k < h->count && d->halo_count > 0; offset += h->words[k++]) {
+        const int flags = h->field[k] == FIELD_FLAGS;
+        const cl_int keep = flags ? SPH_GHOST_KEEP_FLAGS : ~0, set = flags ? SPH_FLAG_GHOST : 0;
+        SET_ARGS(s, d->unpack, MEM("target", s->field[h->field[k]]), INT("words", h->words[k]),
+                 INT("record_words", h->record_words), INT("offset", offset),
+                 MEM("staging", d->staging_in), MEM("index_of_id", s->ghosts.index_of_id),
+                 INT("first_id", first), INT("count", d->halo_count), INT("keep", keep),
+                 INT("set", set));
+        solver_launch(s, d->unpack, (size_t)d->halo_count, 0);
+    }
+}
+
 /* Copies the listed fields (all when fields is NULL) that the neighbour
  * passes read across from their owners into the halo slots: one record of
  * those fields per halo particle, packed on the device, exchanged, and
  * unpacked (kernels/halo.cl). */
 void solver_domain_refresh(struct solver *s, const enum field *fields, int count)
 {
-    struct domain *d = &s->domain;
-    if (!d->active)
+    if (!s->domain.active)
         return;
-    int list[FIELD_COUNT], listed = 0, words[FIELD_COUNT], record = 0;
-    for (int k = 0; k < (fields ? count : FIELD_COUNT); ++k) {
-        const int f = fields ? (int)fields[k] : k;
-        if (!solver_field_mirrored(s, (enum field)f))
-            continue;
-        words[listed] = (int)(s->element_size[field_table[f].kind] / 4);
-        record += words[listed];
-        list[listed++] = f;
-    }
-    if (listed == 0)
+    struct halo_record h;
+    halo_record_of(s, fields, count, &h);
+    if (h.count == 0)
         return;
-    for (int k = 0, offset = 0; k < listed && d->send_total > 0; offset += words[k++]) {
-        SET_ARGS(s, d->pack, MEM("source", s->field[list[k]]), INT("words", words[k]),
-                 INT("record_words", record), INT("offset", offset), MEM("send_ids", d->send_ids),
-                 MEM("index_of_id", s->ghosts.index_of_id), MEM("staging", d->staging_out),
-                 INT("count", d->send_total));
-        solver_launch(s, d->pack, (size_t)d->send_total, 0);
-    }
-    const size_t out_bytes = 4 * (size_t)record * (size_t)d->send_total;
-    d->halo_bytes_sent += (double)out_bytes;
-    unsigned *host = malloc(out_bytes + 4);
-    int *bytes = calloc((size_t)d->size, sizeof(int)), *back = calloc((size_t)d->size, sizeof(int));
-    if (host && out_bytes > 0)
-        CL_CHECK(clEnqueueReadBuffer(s->dev->queue, d->staging_out, CL_TRUE, 0, out_bytes, host, 0,
-                                     NULL, NULL));
-    for (int r = 0; bytes && r < d->size; ++r)
-        bytes[r] = host ? 4 * record * d->send_count[r] : 0;
-    void *in = NULL;
-    const int failed = !host || !bytes || !back || dist_exchange(host, bytes, &in, back);
-    if (failed)
-        ALLOC_FAILED("the halo exchange", out_bytes);
-    else if (d->halo_count > 0)
-        CL_CHECK(clEnqueueWriteBuffer(s->dev->queue, d->staging_in, CL_TRUE, 0,
-                                      4 * (size_t)record * (size_t)d->halo_count, in, 0, NULL,
-                                      NULL));
-    free(host), free(bytes), free(back), free(in);
-    const cl_int all = ~0, none = 0, keep = SPH_GHOST_KEEP_FLAGS, ghost = SPH_FLAG_GHOST;
-    const cl_int first = s->n_real;
-    for (int k = 0, offset = 0; k < listed && d->halo_count > 0 && !failed; offset += words[k++]) {
-        const int flags = list[k] == FIELD_FLAGS;
-        const cl_int keep_bits = flags ? keep : all, set_bits = flags ? ghost : none;
-        SET_ARGS(s, d->unpack, MEM("target", s->field[list[k]]), INT("words", words[k]),
-                 INT("record_words", record), INT("offset", offset), MEM("staging", d->staging_in),
-                 MEM("index_of_id", s->ghosts.index_of_id), INT("first_id", first),
-                 INT("count", d->halo_count), INT("keep", keep_bits), INT("set", set_bits));
-        solver_launch(s, d->unpack, (size_t)d->halo_count, 0);
-    }
+    pack_halo(s, &h);
+    exchange_halo(s, &h);
+    unpack_halo(s, &h);
 }
 
 /* ---- the step's reductions over every rank */
@@ -787,8 +871,8 @@ void solver_domain_release(struct solver *s)
     solver_release_buffer(&d->send_ids);
     solver_release_buffer(&d->staging_out);
     solver_release_buffer(&d->staging_in);
-    free(d->cut), free(d->global_id), free(d->send_count);
-    d->cut = NULL, d->global_id = NULL, d->send_count = NULL;
+    free(d->cut), free(d->global_id), free(d->send_count), free(d->recv_count);
+    d->cut = NULL, d->global_id = NULL, d->send_count = d->recv_count = NULL;
 }
 
 void solver_domain_figures(const struct solver *s, double *halo_particles, double *halo_bytes)

@@ -35,6 +35,11 @@ int dist_agree(int failed, char *error, size_t size);
  * to rank r and gets recv_bytes[r] from it into *recv (allocated here,
  * freed by the caller). Returns non-zero when out of host memory. */
 int dist_exchange(const void *send, const int *send_bytes, void **recv, int *recv_bytes);
+/* The same when every process knows what it gets from each (recv_bytes
+ * into `recv`, allocated by the caller): point-to-point messages with the
+ * ranks concerned only. */
+void dist_exchange_known(const void *send, const int *send_bytes, void *recv,
+                         const int *recv_bytes);
 /* Every process's `count` doubles, in rank order, into *all (allocated). */
 int dist_allgather(const double *mine, int count, double **all, int *total);
 
@@ -54,7 +59,7 @@ struct domain {
     int *global_id;    /* scene index of each local real particle (local id) */
     int halo_count;    /* halo slots in use, ids n_real .. n_real + halo_count - 1 */
     int halo_capacity;
-    int *send_count; /* halo particles to each rank */
+    int *send_count, *recv_count; /* halo particles to and from each rank */
     int send_total;
     long migrated;          /* particles that changed rank, all ranks, whole run */
     double halo_bytes_sent; /* by this rank's halo refreshes, whole run */

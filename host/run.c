@@ -685,10 +685,7 @@ static int multi_process_limits(const struct sph_case *c, char *error, size_t si
     if (dist_size() == 1)
         return 0;
     const char *missing =
-        c->numerics.total_lagrangian
-            ? "numerics.formulation: total_lagrangian (its reference neighbours do not migrate)"
-        : c->output.checkpoint_interval > 0 ? "checkpoints (output.checkpoint_interval)"
-                                            : NULL;
+        c->output.checkpoint_interval > 0 ? "checkpoints (output.checkpoint_interval)" : NULL;
     if (!missing) {
         if (dist_rank() == 0 && c->output.checkpoint_wall_interval > 0)
             fprintf(stderr,

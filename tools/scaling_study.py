@@ -15,9 +15,10 @@ latencies each). Compute time per particle-step is the one-rank
 measurement (or --compute-seconds, e.g. a GPU's); the bytes per halo
 particle per step are the measured ones; the network is stated
 (--bandwidth, --latency). No overlap of exchange and work is assumed.
-Efficiency = compute / (compute + exchange). A second efficiency is that of
-today's exchange (host/domain.c), which goes through MPI_Alltoall and
-MPI_Alltoallv over every rank: 2 (P - 1) latencies per refresh.
+Efficiency = compute / (compute + exchange). (The halo refreshes of
+host/domain.c are point-to-point with the ranks that share a halo, as
+modelled; the re-sort's migration, every few steps, goes through
+MPI_Alltoall(v) over every rank and is not in the model.)
 
 usage: scaling_study.py [--case CASE] [--set K=V ...] [--ranks 1 2] [--out DIR]
        [--per-rank N ...] [--model-ranks 8 64 512] [--bandwidth GB/s]
@@ -86,11 +87,9 @@ def model(a, t_particle, bytes_per_halo_particle, bytes_per_particle, support_ov
             exchange = HALO_REFRESHES * (neighbours * a.latency * 1e-6) + volume / (
                 a.bandwidth * 1e9)
             exchange += REDUCTIONS * math.log2(max(p, 2)) * a.latency * 1e-6
-            all_to_all = exchange + HALO_REFRESHES * (2 * (p - 1) - neighbours) * a.latency * 1e-6
             rows.append([n, p, "%.3g" % halo, "%.3g" % (volume / 1e6),
                          "%.3g" % (1e3 * compute), "%.3g" % (1e3 * exchange),
-                         "%.3f" % (compute / (compute + exchange)),
-                         "%.3f" % (compute / (compute + all_to_all))])
+                         "%.3f" % (compute / (compute + exchange))])
     gib = a.gpu_memory * 2 ** 30
     largest = gib / (bytes_per_particle * 1.25)  # room for halo and migration
     return rows, largest
@@ -154,8 +153,7 @@ def main():
           % (t_particle, bytes_per_halo, a.bandwidth, a.latency, base["bytes_per_particle"]))
     studylib.write_table(a.out, "weak_scaling_model",
                          ["particles/rank", "ranks", "halo particles", "halo MB/step",
-                          "compute ms/step", "exchange ms/step", "efficiency",
-                          "efficiency, today's all-to-all"], rows)
+                          "compute ms/step", "exchange ms/step", "efficiency"], rows)
     print("largest case per %.0f GiB GPU: %.3g particles (at %d bytes each, 25%% room for "
           "halo and migration)" % (a.gpu_memory, largest, base["bytes_per_particle"]))
     with open(os.path.join(a.out, "scaling.json"), "w") as f:
