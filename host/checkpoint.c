@@ -9,15 +9,21 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* checkpoint.h5; over several processes one file per rank,
+ * checkpoint.rank<R>-of-<N>.h5 (a resume needs the same N). */
 static void set_names(struct checkpoint *k, const char *folder)
 {
     memset(k, 0, sizeof *k);
     k->file = H5I_INVALID_HID;
-    snprintf(k->path, sizeof k->path, "%s/checkpoint.h5", folder);
+    if (dist_size() > 1)
+        snprintf(k->path, sizeof k->path, "%s/checkpoint.rank%d-of-%d.h5", folder, dist_rank(),
+                 dist_size());
+    else
+        snprintf(k->path, sizeof k->path, "%s/checkpoint.h5", folder);
     output_temporary_name(k->path, k->temporary, sizeof k->temporary);
 }
 
-static void fail(struct checkpoint *k, const char *what, const char *name)
+void checkpoint_fail(struct checkpoint *k, const char *what, const char *name)
 {
     if (!k->failed)
         snprintf(k->error, sizeof k->error, "%s record '%s' of %s", what, name, k->path);
@@ -61,7 +67,7 @@ void checkpoint_put(struct checkpoint *k, const char *name, const void *data, si
         H5Dclose(set);
     H5Sclose(space);
     if (status < 0)
-        fail(k, "cannot write", name);
+        checkpoint_fail(k, "cannot write", name);
 }
 
 int checkpoint_end(struct checkpoint *k)
@@ -91,9 +97,10 @@ int checkpoint_open(struct checkpoint *k, const char *folder)
     H5E_END_TRY;
     if (k->file < 0) {
         snprintf(k->error, sizeof k->error,
-                 "no checkpoint in %s (checkpoint.h5 missing or unreadable); output.checkpoint_"
+                 "no checkpoint in %s (%s missing or unreadable; a run over N processes writes "
+                 "one file per rank and resumes with mpirun -np N); output.checkpoint_"
                  "interval or checkpoint_wall_interval make a run write one",
-                 folder);
+                 folder, strrchr(k->path, '/') + 1);
         return k->failed = 1;
     }
     int format = 0;
@@ -131,7 +138,7 @@ void checkpoint_get(struct checkpoint *k, const char *name, void *data, size_t b
     if (k->failed)
         return;
     if (checkpoint_size(k, name) != bytes) {
-        fail(k, "a build with other structures wrote (or the case differs in)", name);
+        checkpoint_fail(k, "a build with other structures wrote (or the case differs in)", name);
         return;
     }
     herr_t status = bytes ? -1 : 0;
@@ -145,7 +152,7 @@ void checkpoint_get(struct checkpoint *k, const char *name, void *data, size_t b
     }
     H5E_END_TRY;
     if (status < 0)
-        fail(k, "cannot read", name);
+        checkpoint_fail(k, "cannot read", name);
 }
 
 void checkpoint_record(struct checkpoint *k, const char *name, void *data, size_t bytes, int load)
@@ -198,7 +205,7 @@ static void transfer(struct solver *s, struct checkpoint *k, const char *name, c
 {
     void *host = CHECKED_CALLOC(bytes + 1, 1, "checkpoint buffer");
     if (!host) {
-        fail(k, "out of host memory for", name);
+        checkpoint_fail(k, "out of host memory for", name);
         return;
     }
     if (load) {
@@ -231,7 +238,7 @@ static void solver_buffers(struct solver *s, struct checkpoint *k, int load)
     for (size_t b = 0; b < sizeof buffers / sizeof buffers[0]; ++b) {
         const cl_mem m = *buffers[b].buffer;
         if (load && !m != !checkpoint_size(k, buffers[b].name))
-            fail(k, "a configuration with other buffers wrote", buffers[b].name);
+            checkpoint_fail(k, "a configuration with other buffers wrote", buffers[b].name);
         else if (m)
             transfer(s, k, buffers[b].name, m, buffer_bytes(m), load);
     }
@@ -240,12 +247,14 @@ static void solver_buffers(struct solver *s, struct checkpoint *k, int load)
 /* The host values that go with the buffers, then the buffers. */
 void solver_checkpoint_records(struct solver *s, struct checkpoint *k, int load)
 {
+    if (s->domain.active) /* this rank's share and halo (host/domain.c) */
+        solver_domain_records(s, k, load);
     CHECKPOINT_RECORD(k, "solver.", s->n, load);
     CHECKPOINT_RECORD(k, "solver.", s->ghosts.count, load);
     CHECKPOINT_RECORD(k, "solver.", s->grid, load);
     CHECKPOINT_RECORD(k, "solver.", s->moved_since_sort, load);
     if (load && !k->failed && (s->n < s->n_real || s->n > s->capacity))
-        fail(k, "an impossible particle count in", "solver.s->n");
+        checkpoint_fail(k, "an impossible particle count in", "solver.s->n");
     if (!k->failed)
         solver_buffers(s, k, load);
 }

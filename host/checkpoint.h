@@ -36,6 +36,8 @@ void checkpoint_get(struct checkpoint *k, const char *name, void *data, size_t b
 /* the byte size of a record; 0 when it is absent */
 size_t checkpoint_size(struct checkpoint *k, const char *name);
 void checkpoint_close(struct checkpoint *k);
+/* Marks the checkpoint failed: "<what> record '<name>' of <path>". */
+void checkpoint_fail(struct checkpoint *k, const char *what, const char *name);
 
 /* A record written (load 0) or read (load 1): each part of a run lists its
  * records once, in one function that serves both ways. */
@@ -48,5 +50,8 @@ void checkpoint_record(struct checkpoint *k, const char *name, void *data, size_
  * every persistent field in use (field_table), the sort keys and cell
  * ranges, the ghosts' lists and the projectile. */
 void solver_checkpoint_records(struct solver *s, struct checkpoint *k, int load);
+/* Over several processes, this rank's domain: its reals' count and scene
+ * indices, the slabs, the halo's lists (host/domain.c). */
+void solver_domain_records(struct solver *s, struct checkpoint *k, int load);
 
 #endif

@@ -23,6 +23,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "checkpoint.h"
 #include "launch.h"
 #include "solver.h"
 
@@ -805,6 +806,47 @@ void solver_domain_refresh(struct solver *s, const enum field *fields, int count
     pack_halo(s, &h);
     exchange_halo(s, &h);
     unpack_halo(s, &h);
+}
+
+/* ---- checkpoints: this rank's share, the slabs and the halo's lists */
+
+void solver_domain_records(struct solver *s, struct checkpoint *k, int load)
+{
+    struct domain *d = &s->domain;
+    CHECKPOINT_RECORD(k, "domain.", s->n_real, load);
+    CHECKPOINT_RECORD(k, "domain.", d->halo_count, load);
+    CHECKPOINT_RECORD(k, "domain.", d->send_total, load);
+    CHECKPOINT_RECORD(k, "domain.", d->migrated, load);
+    CHECKPOINT_RECORD(k, "domain.", d->rebalances, load);
+    CHECKPOINT_RECORD(k, "domain.", d->halo_bytes_sent, load);
+    const size_t ranks = (size_t)d->size;
+    checkpoint_record(k, "domain.cut", d->cut, sizeof(double) * (ranks + 1), load);
+    checkpoint_record(k, "domain.send_count", d->send_count, sizeof(int) * ranks, load);
+    checkpoint_record(k, "domain.recv_count", d->recv_count, sizeof(int) * ranks, load);
+    const int room = s->capacity - s->ghosts.capacity;
+    if (load && !k->failed &&
+        (s->n_real < 0 || d->halo_count < 0 || d->send_total < 0 ||
+         s->n_real + d->halo_count > room))
+        checkpoint_fail(k, "an impossible particle count in", "domain.s->n_real");
+    if (k->failed)
+        return;
+    int *ids = calloc((size_t)d->send_total + 1, sizeof(int));
+    if (load) {
+        free(d->global_id);
+        d->global_id = calloc((size_t)s->n_real + 1, sizeof(int));
+    } else if (ids && d->send_total > 0)
+        CL_CHECK(clEnqueueReadBuffer(s->dev->queue, d->send_ids, CL_TRUE, 0,
+                                     sizeof(int) * (size_t)d->send_total, ids, 0, NULL, NULL));
+    if (!ids || !d->global_id) {
+        free(ids);
+        checkpoint_fail(k, "out of host memory for", "domain.global_id");
+        return;
+    }
+    checkpoint_record(k, "domain.global_id", d->global_id, sizeof(int) * (size_t)s->n_real, load);
+    checkpoint_record(k, "domain.send_ids", ids, sizeof(int) * (size_t)d->send_total, load);
+    if (load && !k->failed)
+        halo_buffers(s, ids);
+    free(ids);
 }
 
 /* ---- the step's reductions over every rank */

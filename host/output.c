@@ -171,13 +171,14 @@ static void output_records(struct output *o, struct checkpoint *k, int load)
 
 void output_checkpoint_save(struct output *o, struct checkpoint *k)
 {
-    /* a length the files never reached would be cut to on resume */
-    if (flush_csv(o)) {
+    /* a length the files never reached would be cut to on resume (rank 0
+     * writes them: the others record zeros) */
+    if (!o->silent && flush_csv(o)) {
         snprintf(k->error, sizeof k->error, "history.csv or ballistics.csv could not be written");
         k->failed = 1;
         return;
     }
-    o->resume_history_bytes = ftell(o->history);
+    o->resume_history_bytes = o->history ? ftell(o->history) : 0;
     o->resume_ballistics_bytes = o->ballistics ? ftell(o->ballistics) : 0;
     output_records(o, k, 0);
 }
@@ -187,6 +188,7 @@ int output_resume(struct output *o, const char *folder, const struct sph_case *c
 {
     if (output_setup(o, folder, c, particles, error, error_size))
         return 1;
+    o->silent = dist_rank() != 0;
     output_records(o, k, 1);
     if (k->failed)
         return snprintf(error, error_size, "%s", k->error) > 0;
@@ -195,6 +197,8 @@ int output_resume(struct output *o, const char *folder, const struct sph_case *c
 
 int output_resume_files(struct output *o, int with_ballistics, char *error, size_t error_size)
 {
+    if (o->silent)
+        return 0;
     o->history = reopen_csv(o->folder, "history.csv", o->resume_history_bytes, error, error_size);
     if (!o->history)
         return 1;

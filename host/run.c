@@ -427,17 +427,20 @@ static int write_checkpoint(struct loop *L)
     return failed;
 }
 
+/* Over several processes every rank writes its file at the same step:
+ * the simulated-time trigger is the same everywhere, the wall-clock one is
+ * taken when any rank's is due. */
 static int checkpoint_due(struct loop *L)
 {
     const struct case_output *o = &L->c->output;
-    if (dist_size() > 1) /* multi_process_limits */
-        return 0;
+    int due = 0;
     if (L->t >= L->next_checkpoint * (1 - 1e-9)) {
         while (L->next_checkpoint <= L->t * (1 + 1e-9))
             L->next_checkpoint += o->checkpoint_interval;
-        return 1;
+        due = 1;
     }
-    return o->checkpoint_wall_interval > 0 && wall_seconds() >= L->next_checkpoint_wall;
+    due |= o->checkpoint_wall_interval > 0 && wall_seconds() >= L->next_checkpoint_wall;
+    return dist_any(due);
 }
 
 /* SIGINT / SIGTERM: the loop finishes its step, writes a checkpoint, a
@@ -482,7 +485,7 @@ static void catch_interrupts(int on)
 static int stop_interrupted(struct loop *L)
 {
     const int sig = interrupt_signal ? interrupt_signal : SIGINT; /* another rank's */
-    const int saved = dist_size() == 1 && write_checkpoint(L) == 0;
+    const int saved = !dist_any(write_checkpoint(L) != 0);        /* every rank's file */
     timed_output(L, write_snapshot);
     L->status = "interrupted";
     snprintf(L->message, sizeof L->message, "interrupted by %s at step %ld, t = %.6e s; %s%s",
@@ -659,6 +662,21 @@ static int resume_state(struct loop *L, struct checkpoint *k, char *error, size_
     return 0;
 }
 
+/* Over several processes (collective, once every rank has loaded its
+ * file): a rank whose last checkpoint could not be written kept an older
+ * one, and the files do not make one state. */
+static int same_step_everywhere(struct loop *L, char *error, size_t size)
+{
+    double step[2] = {(double)L->step, -(double)L->step};
+    dist_min(step, 2);
+    if (step[0] == -step[1])
+        return 0;
+    return snprintf(error, size,
+                    "the ranks' checkpoints in %s are from different steps (%.0f to %.0f); the "
+                    "run cannot go on from them",
+                    L->out->folder, step[0], -step[1]) > 0;
+}
+
 /* What a run holds; close_run releases it in reverse order (every release
  * accepts what was never made: the struct starts zeroed). */
 struct run_resources {
@@ -679,26 +697,6 @@ static void close_run(struct run_resources *r)
     free(r->c);
 }
 
-/* What a run over several processes (host/domain.c) does not do yet. */
-static int multi_process_limits(const struct sph_case *c, char *error, size_t size)
-{
-    if (dist_size() == 1)
-        return 0;
-    const char *missing =
-        c->output.checkpoint_interval > 0 ? "checkpoints (output.checkpoint_interval)" : NULL;
-    if (!missing) {
-        if (dist_rank() == 0 && c->output.checkpoint_wall_interval > 0)
-            fprintf(stderr,
-                    "sph: a run over %d processes writes no checkpoint yet "
-                    "(output.checkpoint_wall_interval is not used)\n",
-                    dist_size());
-        return 0;
-    }
-    return snprintf(error, size,
-                    "%s: a run over %d processes does not support %s yet; run it as one process",
-                    c->path, dist_size(), missing) > 0;
-}
-
 /* Case, scene, device and program, and the run folder's name. Returns 0,
  * or the exit status (1 bad input, 2 device) with the reason in `error`. */
 static int open_run(const struct run_options *opt, struct run_resources *r, char *error,
@@ -710,7 +708,7 @@ static int open_run(const struct run_options *opt, struct run_resources *r, char
     struct sph_case *c = r->c;
     double points = 0;
     if (case_load(opt->case_path, opt->set_count, opt->sets, c, error, size) ||
-        scene_estimate(c, &points, error, size) || multi_process_limits(c, error, size))
+        scene_estimate(c, &points, error, size))
         return 1;
     points /= dist_size(); /* each rank holds its share */
     if (device_open(opt->device, opt->profile, &r->dev, error, size))
@@ -834,7 +832,8 @@ static int open_and_start(struct loop *L, struct run_resources *r, struct checkp
     say_what_runs(L->opt, r);
     /* resumed: the CSV files are cut back only once the whole checkpoint
      * has loaded, so a refused resume leaves the folder as it was */
-    if (k ? resume_state(L, k, error, size) ||
+    if (k ? dist_agree(resume_state(L, k, error, size), error, size) ||
+                same_step_everywhere(L, error, size) ||
                 output_resume_files(&r->out, r->c->projectile.enabled, error, size)
           : start(L, error, size))
         return report_start_failure(L, r, error);
@@ -854,12 +853,6 @@ int run_case(const struct run_options *opt)
     /* sph resume RUN_DIR: the folder's resolved case, as it was */
     char resolved[SPH_PATH_MAX + 32];
     struct run_options options = *opt;
-    if (opt->resume && dist_size() > 1) {
-        fprintf(stderr, "sph: resume runs as one process (a run over several processes writes "
-                        "no checkpoint yet)\n");
-        free(r), free(k);
-        return 1;
-    }
     if (opt->resume) {
         snprintf(resolved, sizeof resolved, "%s/case.resolved.yaml", opt->out_dir);
         options.case_path = resolved;

@@ -18,6 +18,12 @@ usage: check_resume.py SPH CASE WORK_DIR [--raise-at-step N] [--set K=V ...]
 4. refusals: a folder without a checkpoint, and a case.resolved.yaml
    whose values were edited after the checkpoint, exit 1 with a message that says so and
    leave history.csv as it was.
+
+With SPH_LAUNCHER set (e.g. "mpirun -np 2") every command runs through it:
+a run over several processes, one checkpoint file per rank; the interrupt
+must then come from --raise-at-step (every rank raises at the same step),
+and the two-SIGINT check, which is about one process's signal handling, is
+left out.
 """
 import json
 import os
@@ -31,6 +37,8 @@ import time
 import h5py
 import numpy as np
 
+LAUNCH = os.environ.get("SPH_LAUNCHER", "").split()
+
 
 def fail(message):
     print("FAIL:", message)
@@ -38,7 +46,7 @@ def fail(message):
 
 
 def run(sph, args, expect):
-    p = subprocess.run([sph] + args, capture_output=True, text=True)
+    p = subprocess.run(LAUNCH + [sph] + args, capture_output=True, text=True)
     if p.returncode != expect:
         fail(f"{' '.join(args)}: exit {p.returncode}, expected {expect}\n{p.stderr[-2000:]}")
     return p
@@ -109,7 +117,9 @@ def main():
     env = dict(os.environ)
     if raise_at:
         env["SPH_RAISE_AT_STEP"] = raise_at
-    p = subprocess.Popen([sph, "run", case, "--out", cut, "--quiet"] + sets, env=env,
+    if LAUNCH and not raise_at:
+        fail("SPH_LAUNCHER needs --raise-at-step (a signal to the launcher is its own)")
+    p = subprocess.Popen(LAUNCH + [sph, "run", case, "--out", cut, "--quiet"] + sets, env=env,
                          stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     history = os.path.join(cut, "history.csv")
     deadline = time.time() + 600
@@ -156,6 +166,8 @@ def main():
         fail("a refused resume changed history.csv")
     print("refusals: no checkpoint, edited case: exit 1 with the reason")
 
+    if LAUNCH:
+        return
     # Ctrl-C pressed twice: the second signal ends the process at once (the
     # default action of SIGINT), and what was written before stays readable
     twice = os.path.join(work, "twice")
