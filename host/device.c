@@ -257,7 +257,7 @@ static int select_device(const struct device_entry *entries, int count, const ch
         /* over several processes each rank on a node takes its own GPU
          * (its rank on the node modulo the GPUs): the first for one process */
         int gpus = 0;
-        for (int i = 0; i < count; ++i)
+        for (int i = 0; dist_size() > 1 && i < count; ++i)
             gpus += strcmp(device_type_name(entries[i].device), "GPU") == 0;
         for (int i = 0, k = gpus ? dist_local_rank() % gpus : 0; i < count; ++i)
             if (strcmp(device_type_name(entries[i].device), "GPU") == 0 && k-- == 0)
