@@ -246,16 +246,20 @@ static void read_cavity(struct solver *s, struct projectile_reading *out)
     if (!v)
         return;
     solver_read_reals(s, s->partials, width * (size_t)s->reduce_groups, v);
+    /* the nearest empty radius as its negative, so that one maximum over
+     * every rank's particles takes both */
+    double widest[2 * SPH_MAX_CAVITY_PROBES];
     for (int k = 0; k < SPH_MAX_CAVITY_PROBES; ++k) {
-        double empty = HUGE_VAL, damaged = 0;
+        widest[2 * k] = -HUGE_VAL, widest[2 * k + 1] = 0;
         for (int g = 0; g < s->reduce_groups; ++g) {
-            empty = fmin(empty, v[g * width + 2 * k]);
-            damaged = fmax(damaged, v[g * width + 2 * k + 1]);
+            widest[2 * k] = fmax(widest[2 * k], -v[g * width + 2 * k]);
+            widest[2 * k + 1] = fmax(widest[2 * k + 1], v[g * width + 2 * k + 1]);
         }
-        dist_min(&empty, 1); /* over every rank's particles */
-        dist_max(&damaged, 1);
-        out->cavity_d1[k] = isfinite(empty) ? 2 * empty : 0.0;
-        out->cavity_d2[k] = 2 * damaged;
+    }
+    dist_max(widest, 2 * SPH_MAX_CAVITY_PROBES);
+    for (int k = 0; k < SPH_MAX_CAVITY_PROBES; ++k) {
+        out->cavity_d1[k] = isfinite(widest[2 * k]) ? -2 * widest[2 * k] : 0.0;
+        out->cavity_d2[k] = 2 * widest[2 * k + 1];
     }
     free(v);
 }

@@ -108,29 +108,24 @@ static void all_reduce(void *v, size_t n, MPI_Datatype type, MPI_Op op)
 #define ALL_REDUCE(v, n, type, op) ((void)(v), (void)(n))
 #endif
 
-void dist_sum(double *v, int n)
+void dist_sum(double *v, size_t n)
 {
-    ALL_REDUCE(v, (size_t)n, MPI_DOUBLE, MPI_SUM);
+    ALL_REDUCE(v, n, MPI_DOUBLE, MPI_SUM);
 }
 
-void dist_max(double *v, int n)
+void dist_max(double *v, size_t n)
 {
-    ALL_REDUCE(v, (size_t)n, MPI_DOUBLE, MPI_MAX);
+    ALL_REDUCE(v, n, MPI_DOUBLE, MPI_MAX);
 }
 
-void dist_min(double *v, int n)
+void dist_min(double *v, size_t n)
 {
-    ALL_REDUCE(v, (size_t)n, MPI_DOUBLE, MPI_MIN);
+    ALL_REDUCE(v, n, MPI_DOUBLE, MPI_MIN);
 }
 
 void dist_sum_ints(int *v, size_t n)
 {
     ALL_REDUCE(v, n, MPI_INT, MPI_SUM);
-}
-
-void dist_sum_doubles(double *v, size_t n)
-{
-    ALL_REDUCE(v, n, MPI_DOUBLE, MPI_SUM);
 }
 
 int dist_any(int flag)
@@ -191,21 +186,17 @@ int dist_exchange(const void *send, const int *send_bytes, void **recv, int *rec
                       MPI_COMM_WORLD);
     free(send_at), free(recv_at);
     return failed;
-#else
-    /* one process: what it sends to itself */
-    recv_bytes[0] = send_bytes[0];
-    *recv = malloc((size_t)send_bytes[0] + 1);
-    if (*recv)
-        memcpy(*recv, send, (size_t)send_bytes[0]);
-    return *recv == NULL;
+#else /* one process never exchanges (its domain is not active) */
+    (void)send, (void)send_bytes, (void)recv_bytes;
+    return 1;
 #endif
 }
 
 void dist_exchange_known(const void *send, const int *send_bytes, void *recv, const int *recv_bytes)
 {
 #ifdef SPH_MPI
-    MPI_Request *requests = malloc(2 * sizeof(MPI_Request) * (size_t)world_size + 1);
-    if (!requests) {
+    static MPI_Request *requests; /* two per rank, kept for the process */
+    if (!requests && !(requests = malloc(2 * sizeof(MPI_Request) * (size_t)world_size))) {
         fprintf(stderr, "sph: rank %d: out of host memory for MPI requests\n", world_rank);
         dist_abort(2);
     }
@@ -221,10 +212,8 @@ void dist_exchange_known(const void *send, const int *send_bytes, void *recv, co
             MPI_Isend((const char *)send + at, send_bytes[r], MPI_BYTE, r, 17, MPI_COMM_WORLD,
                       &requests[count++]);
     MPI_Waitall(count, requests, MPI_STATUSES_IGNORE);
-    free(requests);
-#else
-    memcpy(recv, send, (size_t)send_bytes[0]);
-    (void)recv_bytes;
+#else /* one process has no halo: never called */
+    (void)send, (void)send_bytes, (void)recv, (void)recv_bytes;
 #endif
 }
 
@@ -248,12 +237,9 @@ int dist_allgather(const double *mine, int count, double **all, int *total)
         MPI_Allgatherv(mine, count, MPI_DOUBLE, *all, counts, at, MPI_DOUBLE, MPI_COMM_WORLD);
     free(counts), free(at);
     return failed;
-#else
-    *total = count;
-    *all = malloc(sizeof(double) * (size_t)count + 1);
-    if (*all)
-        memcpy(*all, mine, sizeof(double) * (size_t)count);
-    return *all == NULL;
+#else /* one process never re-cuts (its domain is not active) */
+    (void)mine, (void)count, (void)total;
+    return 1;
 #endif
 }
 
@@ -307,9 +293,13 @@ static double slab_distance(const struct domain *d, int r, double x)
     return fmax(fmax(d->cut[r] - x, x - d->cut[r + 1]), 0.0);
 }
 
-static double halo_width(const struct solver *s)
+/* Whether a particle at coordinate x (along the axis) with these flags is
+ * within reach of rank r's slab: a support (1 + skin), times the graded
+ * lattices' reach (solver_reach_scale, the mirrors' rule). */
+static int reaches(const struct solver *s, int r, double x, int flags)
 {
-    return s->run.support * (1.0 + s->skin);
+    const double width = s->run.support * (1.0 + s->skin) * solver_reach_scale(s, flags);
+    return slab_distance(&s->domain, r, x) < width;
 }
 
 static int copy_particle(const struct sph_scene *from, int p, struct sph_scene *to, int q)
@@ -350,8 +340,7 @@ static int local_scene(struct solver *s, const struct sph_scene *scene, struct s
     *own = count;
     for (int p = 0; p < scene->count; ++p) {
         const double x = scene->position[3 * p + d->axis];
-        if (owner_of(d, x) != d->rank &&
-            slab_distance(d, d->rank, x) < halo_width(s) * solver_reach_scale(s, scene->flags[p]))
+        if (owner_of(d, x) != d->rank && reaches(s, d->rank, x, scene->flags[p]))
             count = copy_particle(scene, p, local, count);
     }
     local->count = count;
@@ -374,9 +363,12 @@ int solver_domain_setup(struct solver *s, const struct sph_scene *scene, struct 
     d->cut = calloc((size_t)d->size + 1, sizeof(double));
     d->send_count = calloc((size_t)d->size, sizeof(int));
     d->recv_count = calloc((size_t)d->size, sizeof(int));
+    d->send_bytes = calloc((size_t)d->size, sizeof(int));
+    d->recv_bytes = calloc((size_t)d->size, sizeof(int));
     double *x = calloc((size_t)scene->count + 1, sizeof(double));
     int own = 0;
-    int failed = !d->cut || !d->send_count || !d->recv_count || !x;
+    int failed =
+        !d->cut || !d->send_count || !d->recv_count || !d->send_bytes || !d->recv_bytes || !x;
     if (!failed) {
         for (int p = 0; p < scene->count; ++p)
             x[p] = scene->position[3 * p + d->axis];
@@ -452,11 +444,9 @@ static int read_records(struct solver *s, struct records *r)
     return 0;
 }
 
-static double record_coordinate(const struct solver *s, const struct records *r,
-                                const unsigned char *record, int axis)
+static double record_coordinate(const struct solver *s, const unsigned char *record, int axis)
 {
-    size_t at = sizeof(int); /* FIELD_POS is the registry's first field */
-    (void)r;
+    const size_t at = sizeof(int); /* FIELD_POS is the registry's first field */
     if (s->double_precision) {
         double v;
         memcpy(&v, record + at + (size_t)axis * sizeof v, sizeof v);
@@ -585,7 +575,7 @@ static int rebalance(struct solver *s, const struct records *r)
     double *mine = malloc(sizeof(double) * (size_t)r->count + 1), *all = NULL;
     int total = 0, failed = !mine;
     for (int p = 0; mine && p < r->count; ++p)
-        mine[p] = record_coordinate(s, r, r->data + (size_t)p * r->bytes, d->axis);
+        mine[p] = record_coordinate(s, r->data + (size_t)p * r->bytes, d->axis);
     failed = dist_allgather(mine, mine ? r->count : 0, &all, &total) || failed;
     if (!failed) {
         cut_equal_shares(d, all, total);
@@ -607,9 +597,7 @@ static int halo_records(struct solver *s, const struct records *reals, struct re
     for (int r = 0; r < d->size; ++r)
         for (int p = 0; p < reals->count && r != d->rank; ++p) {
             const unsigned char *rec = reals->data + (size_t)p * reals->bytes;
-            const double x = record_coordinate(s, reals, rec, d->axis);
-            if (slab_distance(d, r, x) <
-                halo_width(s) * solver_reach_scale(s, record_flags(s, reals, rec)))
+            if (reaches(s, r, record_coordinate(s, rec, d->axis), record_flags(s, reals, rec)))
                 ++total, ++d->send_count[r];
         }
     struct records out = *reals;
@@ -621,9 +609,7 @@ static int halo_records(struct solver *s, const struct records *reals, struct re
     for (int r = 0, q = 0; r < d->size && !failed; ++r)
         for (int p = 0; p < reals->count && r != d->rank; ++p) {
             const unsigned char *rec = reals->data + (size_t)p * reals->bytes;
-            const double x = record_coordinate(s, reals, rec, d->axis);
-            if (!(slab_distance(d, r, x) <
-                  halo_width(s) * solver_reach_scale(s, record_flags(s, reals, rec))))
+            if (!reaches(s, r, record_coordinate(s, rec, d->axis), record_flags(s, reals, rec)))
                 continue;
             memcpy(out.data + (size_t)q * reals->bytes, rec, reals->bytes);
             (*send_ids)[q] = p;
@@ -679,6 +665,10 @@ static void halo_buffers(struct solver *s, const int *send_ids)
     solver_release_buffer(&d->staging_in);
     d->staging_out = solver_create_buffer(s, 4 * d->staging_words);
     d->staging_in = solver_create_buffer(s, 4 * d->staging_words);
+    /* the host's side of the exchange, kept between steps */
+    free(d->host_out), free(d->host_in);
+    d->host_out = CHECKED_CALLOC(d->staging_words, 4, "the halo exchange");
+    d->host_in = CHECKED_CALLOC(d->staging_words, 4, "the halo exchange");
 }
 
 int solver_domain_exchange(struct solver *s, char *error, size_t error_size)
@@ -692,8 +682,7 @@ int solver_domain_exchange(struct solver *s, char *error, size_t error_size)
     int *dest = calloc((size_t)reals.count + 1, sizeof(int)), *send_ids = NULL;
     long leaving = 0;
     for (int p = 0; dest && p < reals.count; ++p) {
-        dest[p] = owner_of(
-            d, record_coordinate(s, &reals, reals.data + (size_t)p * reals.bytes, d->axis));
+        dest[p] = owner_of(d, record_coordinate(s, reals.data + (size_t)p * reals.bytes, d->axis));
         leaving += dest[p] != d->rank;
     }
     failed = !dest || failed;
@@ -754,25 +743,23 @@ static void exchange_halo(struct solver *s, const struct halo_record *h)
     const size_t out_bytes = 4 * (size_t)h->record_words * (size_t)d->send_total;
     const size_t in_bytes = 4 * (size_t)h->record_words * (size_t)d->halo_count;
     d->halo_bytes_sent += (double)out_bytes;
-    void *out = malloc(out_bytes + 4), *in = malloc(in_bytes + 4);
-    int *bytes = calloc((size_t)d->size, sizeof(int)), *back = calloc((size_t)d->size, sizeof(int));
-    if (!out || !in || !bytes || !back) { /* the other ranks wait on this one's messages */
-        fprintf(stderr, "sph: rank %d: out of host memory for the halo exchange (%zu bytes)\n",
-                d->rank, out_bytes + in_bytes);
+    if (!d->host_out || !d->host_in) { /* the other ranks wait on this one's messages */
+        fprintf(stderr, "sph: rank %d: out of host memory for the halo exchange: %s\n", d->rank,
+                cl_failure());
         dist_abort(2);
     }
     if (out_bytes > 0)
-        CL_CHECK(clEnqueueReadBuffer(s->dev->queue, d->staging_out, CL_TRUE, 0, out_bytes, out, 0,
-                                     NULL, NULL));
+        CL_CHECK(clEnqueueReadBuffer(s->dev->queue, d->staging_out, CL_TRUE, 0, out_bytes,
+                                     d->host_out, 0, NULL, NULL));
     for (int r = 0; r < d->size; ++r) {
-        bytes[r] = 4 * h->record_words * d->send_count[r];
-        back[r] = 4 * h->record_words * d->recv_count[r];
+        d->send_bytes[r] = 4 * h->record_words * d->send_count[r];
+        d->recv_bytes[r] = 4 * h->record_words * d->recv_count[r];
     }
-    dist_exchange_known(out, bytes, in, back); /* sizes known since the re-sort */
+    /* sizes known since the re-sort */
+    dist_exchange_known(d->host_out, d->send_bytes, d->host_in, d->recv_bytes);
     if (in_bytes > 0)
-        CL_CHECK(clEnqueueWriteBuffer(s->dev->queue, d->staging_in, CL_TRUE, 0, in_bytes, in, 0,
-                                      NULL, NULL));
-    free(out), free(in), free(bytes), free(back);
+        CL_CHECK(clEnqueueWriteBuffer(s->dev->queue, d->staging_in, CL_TRUE, 0, in_bytes,
+                                      d->host_in, 0, NULL, NULL));
 }
 
 static void unpack_halo(struct solver *s, const struct halo_record *h)
@@ -856,7 +843,7 @@ void solver_domain_reduce(const struct solver *s, struct reduction *r)
     const struct domain *d = &s->domain;
     if (!d->active)
         return;
-    double sums[17] = {r->load_power, r->kinetic,       r->internal,
+    double sums[15] = {r->load_power, r->kinetic,       r->internal,
                        r->wall_power, r->viscous_power, r->hourglass_power};
     for (int a = 0; a < 3; ++a) {
         sums[6 + a] = r->probe_displacement[a];
@@ -871,13 +858,13 @@ void solver_domain_reduce(const struct solver *s, struct reduction *r)
         r->momentum[a] = sums[9 + a];
         r->wall_force[a] = sums[12 + a];
     }
-    double maxima[3] = {r->max_signal, r->max_speed, r->max_drift_speed};
-    dist_max(maxima, 3);
+    /* with the scene index of the lowest unhealthy particle anywhere, as
+     * its negative: one maximum takes all four */
+    const double bad = r->bad_id >= 0 && r->bad_id < s->n_real ? d->global_id[r->bad_id] : HUGE_VAL;
+    double maxima[4] = {r->max_signal, r->max_speed, r->max_drift_speed, -bad};
+    dist_max(maxima, 4);
     r->max_signal = maxima[0], r->max_speed = maxima[1], r->max_drift_speed = maxima[2];
-    /* the scene index of the lowest unhealthy particle anywhere */
-    double bad = r->bad_id >= 0 && r->bad_id < s->n_real ? d->global_id[r->bad_id] : HUGE_VAL;
-    dist_min(&bad, 1);
-    r->bad_id = isfinite(bad) ? (long)bad : -1;
+    r->bad_id = isfinite(maxima[3]) ? (long)-maxima[3] : -1;
 }
 
 /* Scene index of each slot (-1: a ghost or halo slot) from the slots' ids. */
@@ -914,7 +901,9 @@ void solver_domain_release(struct solver *s)
     solver_release_buffer(&d->staging_out);
     solver_release_buffer(&d->staging_in);
     free(d->cut), free(d->global_id), free(d->send_count), free(d->recv_count);
+    free(d->send_bytes), free(d->recv_bytes), free(d->host_out), free(d->host_in);
     d->cut = NULL, d->global_id = NULL, d->send_count = d->recv_count = NULL;
+    d->send_bytes = d->recv_bytes = NULL, d->host_out = d->host_in = NULL;
 }
 
 void solver_domain_figures(const struct solver *s, double *halo_particles, double *halo_bytes)

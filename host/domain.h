@@ -21,11 +21,10 @@ int dist_local_rank(void);
 void dist_abort(int code);
 
 /* Collectives over every process (in place; no-ops on one). */
-void dist_sum(double *v, int n);
-void dist_max(double *v, int n);
-void dist_min(double *v, int n);
+void dist_sum(double *v, size_t n);
+void dist_max(double *v, size_t n);
+void dist_min(double *v, size_t n);
 void dist_sum_ints(int *v, size_t n);
-void dist_sum_doubles(double *v, size_t n);
 int dist_any(int flag);
 int dist_bcast_int(int value); /* rank 0's */
 /* Whether any process failed: the lowest failing rank's `error` (with its
@@ -65,7 +64,9 @@ struct domain {
     double halo_bytes_sent; /* by this rank's halo refreshes, whole run */
     int rebalances;         /* times the slabs were cut again */
     cl_mem send_ids, staging_out, staging_in;
-    size_t staging_words; /* of each staging buffer */
+    size_t staging_words;         /* of each staging buffer, device and host */
+    void *host_out, *host_in;     /* the exchange's host side */
+    int *send_bytes, *recv_bytes; /* per rank, of one refresh */
     cl_kernel pack, unpack;
 };
 

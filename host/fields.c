@@ -183,7 +183,7 @@ static int read_column(struct solver *s, enum field f, const int *row_of_slot,
     if (s->domain.active && col->is_int)
         dist_sum_ints(col->data, values);
     else if (s->domain.active)
-        dist_sum_doubles(col->data, values);
+        dist_sum(col->data, values);
     return 0;
 }
 
