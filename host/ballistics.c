@@ -33,21 +33,24 @@ static void write_state(struct solver *s, const double *values)
     write_reals(s, s->projectile.state, values, SPH_PROJ_SLOTS);
 }
 
-/* Over several processes: every rank's contact sums, in the first group's
- * slots (the others zeroed), so that each rank's projectile_advance moves
- * the same sphere by the same force. */
-static void global_contact_sums(struct solver *s)
+/* Over several processes: this rank's contact sums, and every rank's
+ * written back into the first group's slots (the others zeroed), so that
+ * each rank's projectile_advance moves the same sphere by the same force. */
+void solver_projectile_sums(struct solver *s, double sum[SPH_CONTACT_SLOTS])
 {
-    struct projectile *p = &s->projectile;
     const size_t count = (size_t)s->reduce_groups * SPH_CONTACT_SLOTS;
-    double v[64 * SPH_CONTACT_SLOTS] = {0}, sum[SPH_CONTACT_SLOTS] = {0};
-    solver_read_reals(s, p->contact_partials, count, v);
+    double v[64 * SPH_CONTACT_SLOTS] = {0};
+    solver_read_reals(s, s->projectile.contact_partials, count, v);
+    memset(sum, 0, sizeof(double) * SPH_CONTACT_SLOTS);
     for (size_t k = 0; k < count; ++k)
         sum[k % SPH_CONTACT_SLOTS] += v[k];
-    dist_sum(sum, SPH_CONTACT_SLOTS);
-    memset(v, 0, sizeof v);
-    memcpy(v, sum, sizeof sum);
-    write_reals(s, p->contact_partials, v, count);
+}
+
+void solver_projectile_share(struct solver *s, const double sum[SPH_CONTACT_SLOTS])
+{
+    double v[64 * SPH_CONTACT_SLOTS] = {0};
+    memcpy(v, sum, sizeof(double) * SPH_CONTACT_SLOTS);
+    write_reals(s, s->projectile.contact_partials, v, (size_t)s->reduce_groups * SPH_CONTACT_SLOTS);
 }
 
 /* Whole-model factors: a 2-D particle is per metre of thickness or (axi)
@@ -212,8 +215,6 @@ void solver_projectile_contact(struct solver *s, double dt, double dt_prev)
              INT("n", s->n));
     solver_launch(s, s->k.projectile_contact, (size_t)s->reduce_groups * REDUCE_GROUP,
                   REDUCE_GROUP);
-    if (s->domain.active)
-        global_contact_sums(s);
 }
 
 void solver_projectile_advance(struct solver *s, double dt, double dt_prev)

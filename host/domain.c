@@ -1,15 +1,16 @@
 /* One case over many processes (MPI): each rank owns the particles of one
- * slab of space and runs its own OpenCL device on them (DESIGN.md, "The
+ * box of space, a leaf of an orthogonal recursive bisection balanced by
+ * particle count, and runs its own OpenCL device on them (DESIGN.md, "The
  * next shape"). Halos are ghost slots filled from the neighbouring ranks'
  * particles, exactly as the symmetry planes' mirror ghosts are filled from
  * a rank's own (host/ghost.c): the neighbour passes cannot tell them apart.
  *
  * At every re-sort (solver_sort) the reals are compacted, read back, and
- * those whose slab changed are sent to their new owner (MPI_Alltoallv of
+ * those whose box changed are sent to their new owner (MPI_Alltoallv of
  * whole particle records: every persistent field of the registry); the
- * slabs are cut again when the largest share passes the mean by
+ * boxes are cut again when the largest share passes the mean by
  * DOMAIN_IMBALANCE; then each rank sends the particles within reach of
- * another rank's slab to it, and those are the halo until the next sort.
+ * another rank's box to it, and those are the halo until the next sort.
  * Before each neighbour pass the fields the pass reads across (the
  * registry's read_across, as for mirrors) are packed on the device,
  * exchanged and unpacked into the halo slots (kernels/halo.cl).
@@ -34,6 +35,9 @@
 /* ---- processes and collectives */
 
 static int world_rank = 0, world_size = 1, mpi_started = 0;
+#ifdef SPH_MPI
+static MPI_Op sum_then_max = MPI_OP_NULL; /* dist_sum_max */
+#endif
 
 void dist_start(int *argc, char ***argv)
 {
@@ -54,6 +58,8 @@ void dist_start(int *argc, char ***argv)
 void dist_stop(void)
 {
 #ifdef SPH_MPI
+    if (sum_then_max != MPI_OP_NULL)
+        MPI_Op_free(&sum_then_max);
     if (mpi_started)
         MPI_Finalize();
 #endif
@@ -126,6 +132,47 @@ void dist_min(double *v, size_t n)
 void dist_sum_ints(int *v, size_t n)
 {
     ALL_REDUCE(v, n, MPI_INT, MPI_SUM);
+}
+
+void dist_or_bytes(char *v, size_t n)
+{
+    ALL_REDUCE(v, n, MPI_CHAR, MPI_BOR);
+}
+
+#ifdef SPH_MPI
+/* dist_sum_max's operation: the first sum_count doubles add, the rest take
+ * the maximum (a NaN wins, so that a bad value is never hidden). Every rank
+ * reduces the same layout, so the split is one value for the whole job. */
+static int sum_count;
+static void sum_then_max_op(void *in, void *inout, int *len, MPI_Datatype *type)
+{
+    (void)type;
+    const double *a = in;
+    double *b = inout;
+    for (int k = 0; k < *len; ++k)
+        b[k] = k < sum_count ? a[k] + b[k] : a[k] > b[k] || isnan(a[k]) ? a[k] : b[k];
+}
+#endif
+
+void dist_sum_max(double *sums, int n_sums, double *maxima, int n_maxima)
+{
+#ifdef SPH_MPI
+    if (world_size == 1)
+        return;
+    double v[64];
+    if (n_sums + n_maxima > 64)
+        abort(); /* a caller's layout, fixed at compile time */
+    memcpy(v, sums, sizeof(double) * (size_t)n_sums);
+    memcpy(v + n_sums, maxima, sizeof(double) * (size_t)n_maxima);
+    if (sum_then_max == MPI_OP_NULL)
+        MPI_Op_create(sum_then_max_op, 1, &sum_then_max);
+    sum_count = n_sums;
+    MPI_Allreduce(MPI_IN_PLACE, v, n_sums + n_maxima, MPI_DOUBLE, sum_then_max, MPI_COMM_WORLD);
+    memcpy(sums, v, sizeof(double) * (size_t)n_sums);
+    memcpy(maxima, v + n_sums, sizeof(double) * (size_t)n_maxima);
+#else
+    (void)sums, (void)n_sums, (void)maxima, (void)n_maxima;
+#endif
 }
 
 int dist_any(int flag)
@@ -217,6 +264,14 @@ void dist_exchange_known(const void *send, const int *send_bytes, void *recv, co
 #endif
 }
 
+#ifdef SPH_PARALLEL_HDF5
+int dist_hdf5_collective(hid_t file_access, hid_t transfer)
+{
+    return H5Pset_fapl_mpio(file_access, MPI_COMM_WORLD, MPI_INFO_NULL) < 0 ||
+           H5Pset_dxpl_mpio(transfer, H5FD_MPIO_COLLECTIVE) < 0;
+}
+#endif
+
 int dist_allgather(const double *mine, int count, double **all, int *total)
 {
     *all = NULL;
@@ -243,7 +298,7 @@ int dist_allgather(const double *mine, int count, double **all, int *total)
 #endif
 }
 
-/* ---- slabs */
+/* ---- the domains: an orthogonal recursive bisection */
 
 static int compare_doubles(const void *a, const void *b)
 {
@@ -266,40 +321,110 @@ static double cut_near(const double *values, long n, long k)
     return down > 1 ? 0.5 * (values[down - 2] + values[down - 1]) : -HUGE_VAL;
 }
 
-/* Cuts between the particles that split `values` (sorted here) into equal
- * shares, at the nearest gap between distinct coordinates. */
-static void cut_equal_shares(struct domain *d, double *values, int n)
+/* Where the n points `pts` (indices into xyz, 3 per point) split at the
+ * share k / n along `axis`: the nearest gap (cut_near), -inf or +inf at
+ * the ends. scratch holds n doubles. */
+static double share_cut(const double *xyz, const int *pts, int n, long k, int axis, double *scratch)
 {
-    qsort(values, (size_t)n, sizeof(double), compare_doubles);
-    d->cut[0] = -HUGE_VAL;
-    d->cut[d->size] = HUGE_VAL;
-    for (int r = 1; r < d->size; ++r) {
-        const long k = (long)n * r / d->size;
-        d->cut[r] = k <= 0 ? -HUGE_VAL : k >= n ? HUGE_VAL : cut_near(values, n, k);
+    for (int q = 0; q < n; ++q)
+        scratch[q] = xyz[3 * pts[q] + axis];
+    qsort(scratch, (size_t)n, sizeof(double), compare_doubles);
+    return k <= 0 ? -HUGE_VAL : k >= n ? HUGE_VAL : cut_near(scratch, n, k);
+}
+
+/* Splits `count` ranks from `first` over the n points `pts` with halo
+ * widths `reach` (per point, m): the first count / 2 ranks take the points
+ * below a cut at their share, the rest those above it, and each half is
+ * split again the same way. The cut goes across the axis whose cut the
+ * fewest points reach (the halo it makes; ties: the lowest axis), which on
+ * a uniform body is its longest side. Nodes are numbered in preorder from
+ * *next. Returns the subtree: a node, or -1 - rank for one rank. */
+static int bisect(struct domain *d, const double *xyz, const double *reach, int *pts, int n,
+                  double *scratch, int first, int count, int dim, int *next)
+{
+    if (count == 1)
+        return -1 - first;
+    const int node = (*next)++, left = count / 2;
+    const long k = (long)n * left / count;
+    long fewest = -1;
+    for (int a = 0; a < dim; ++a) {
+        const double at = share_cut(xyz, pts, n, k, a, scratch);
+        long halo = 0;
+        for (int q = 0; q < n; ++q)
+            halo += fabs(xyz[3 * pts[q] + a] - at) < reach[pts[q]];
+        if (fewest < 0 || halo < fewest)
+            fewest = halo, d->split_axis[node] = a, d->split_at[node] = at;
     }
+    const int axis = d->split_axis[node];
+    const double cut = d->split_at[node];
+    int below = 0;
+    for (int q = 0; q < n; ++q)
+        if (xyz[3 * pts[q] + axis] < cut) {
+            const int t = pts[q];
+            pts[q] = pts[below], pts[below++] = t;
+        }
+    d->child[2 * node] = bisect(d, xyz, reach, pts, below, scratch, first, left, dim, next);
+    d->child[2 * node + 1] = bisect(d, xyz, reach, pts + below, n - below, scratch, first + left,
+                                    count - left, dim, next);
+    return node;
 }
 
-static int owner_of(const struct domain *d, double x)
+/* The tree of the domains from every particle's position (3 per point) and
+ * halo width (every rank holds the same points, so every rank builds the
+ * same tree). Non-zero when out of host memory. */
+static int cut_domains(struct domain *d, const double *xyz, const double *reach, int n, int dim)
 {
-    int r = 0;
-    while (r + 1 < d->size && x >= d->cut[r + 1])
-        ++r;
-    return r;
+    int *pts = malloc(sizeof(int) * (size_t)n + 1);
+    double *scratch = malloc(sizeof(double) * (size_t)n + 1);
+    if (pts && scratch) {
+        for (int q = 0; q < n; ++q)
+            pts[q] = q;
+        int next = 0;
+        bisect(d, xyz, reach, pts, n, scratch, 0, d->size, dim, &next);
+    }
+    free(scratch);
+    const int failed = !pts || !scratch;
+    free(pts);
+    return failed;
 }
 
-/* Distance from coordinate x to rank r's slab (0 inside it). */
-static double slab_distance(const struct domain *d, int r, double x)
+static int owner_of(const struct domain *d, const double *x)
 {
-    return fmax(fmax(d->cut[r] - x, x - d->cut[r + 1]), 0.0);
+    int c = 0;
+    while (c >= 0)
+        c = d->child[2 * c + (x[d->split_axis[c]] >= d->split_at[c])];
+    return -1 - c;
 }
 
-/* Whether a particle at coordinate x (along the axis) with these flags is
- * within reach of rank r's slab: a support (1 + skin), times the graded
- * lattices' reach (solver_reach_scale, the mirrors' rule). */
-static int reaches(const struct solver *s, int r, double x, int flags)
+/* Marks near[r] for each rank r whose domain lies within `width` of x
+ * along each cut on the way down (a box distance, per axis). */
+static void ranks_near(const struct domain *d, int c, const double *x, double width, char *near)
 {
-    const double width = s->run.support * (1.0 + s->skin) * solver_reach_scale(s, flags);
-    return slab_distance(&s->domain, r, x) < width;
+    if (c < 0) {
+        near[-1 - c] = 1;
+        return;
+    }
+    const double along = x[d->split_axis[c]], cut = d->split_at[c];
+    if (along - width < cut)
+        ranks_near(d, d->child[2 * c], x, width, near);
+    if (along + width > cut)
+        ranks_near(d, d->child[2 * c + 1], x, width, near);
+}
+
+/* How far a particle with these flags reaches into other domains: a
+ * support (1 + skin), times the graded lattices' reach (solver_reach_scale,
+ * the mirrors' rule). */
+static double halo_width(const struct solver *s, int flags)
+{
+    return s->run.support * (1.0 + s->skin) * solver_reach_scale(s, flags);
+}
+
+/* The ranks (near[r], one per rank) within reach of a particle at x with
+ * these flags. */
+static void reached_by(const struct solver *s, const double *x, int flags, char *near)
+{
+    memset(near, 0, (size_t)s->domain.size);
+    ranks_near(&s->domain, 0, x, halo_width(s, flags), near);
 }
 
 static int copy_particle(const struct sph_scene *from, int p, struct sph_scene *to, int q)
@@ -331,19 +456,24 @@ static int local_scene(struct solver *s, const struct sph_scene *scene, struct s
     if (!local->position || !local->velocity || !local->mass || !local->density ||
         !local->material || !local->flags || !d->global_id)
         return 1;
+    char *near = malloc((size_t)d->size);
+    if (!near)
+        return 1;
     int count = 0;
     for (int p = 0; p < scene->count; ++p)
-        if (owner_of(d, scene->position[3 * p + d->axis]) == d->rank) {
+        if (owner_of(d, &scene->position[3 * p]) == d->rank) {
             d->global_id[count] = p;
             count = copy_particle(scene, p, local, count);
         }
     *own = count;
     for (int p = 0; p < scene->count; ++p) {
-        const double x = scene->position[3 * p + d->axis];
-        if (owner_of(d, x) != d->rank && reaches(s, d->rank, x, scene->flags[p]))
+        const double *x = &scene->position[3 * p];
+        reached_by(s, x, scene->flags[p], near);
+        if (owner_of(d, x) != d->rank && near[d->rank])
             count = copy_particle(scene, p, local, count);
     }
     local->count = count;
+    free(near);
     return 0;
 }
 
@@ -356,26 +486,22 @@ int solver_domain_setup(struct solver *s, const struct sph_scene *scene, struct 
     d->rank = dist_rank();
     d->size = dist_size();
     d->n_scene = scene->count;
-    double extent = -1;
-    for (int a = 0; a < s->dim; ++a)
-        if (scene->domain_max[a] - scene->domain_min[a] > extent)
-            extent = scene->domain_max[a] - scene->domain_min[a], d->axis = a;
-    d->cut = calloc((size_t)d->size + 1, sizeof(double));
+    d->split_axis = calloc((size_t)d->size, sizeof(int));
+    d->split_at = calloc((size_t)d->size, sizeof(double));
+    d->child = calloc(2 * (size_t)d->size, sizeof(int));
     d->send_count = calloc((size_t)d->size, sizeof(int));
     d->recv_count = calloc((size_t)d->size, sizeof(int));
     d->send_bytes = calloc((size_t)d->size, sizeof(int));
     d->recv_bytes = calloc((size_t)d->size, sizeof(int));
-    double *x = calloc((size_t)scene->count + 1, sizeof(double));
+    double *reach = malloc(sizeof(double) * (size_t)scene->count + 1);
+    for (int p = 0; reach && p < scene->count; ++p)
+        reach[p] = halo_width(s, scene->flags[p]);
     int own = 0;
-    int failed =
-        !d->cut || !d->send_count || !d->recv_count || !d->send_bytes || !d->recv_bytes || !x;
-    if (!failed) {
-        for (int p = 0; p < scene->count; ++p)
-            x[p] = scene->position[3 * p + d->axis];
-        cut_equal_shares(d, x, scene->count);
-        failed = local_scene(s, scene, local, &own);
-    }
-    free(x);
+    int failed = !d->split_axis || !d->split_at || !d->child || !d->send_count || !d->recv_count ||
+                 !d->send_bytes || !d->recv_bytes || !reach;
+    failed = failed || cut_domains(d, scene->position, reach, scene->count, s->dim) ||
+             local_scene(s, scene, local, &own);
+    free(reach);
     if (failed)
         return snprintf(error, error_size, "out of host memory for the domain of rank %d",
                         d->rank) > 0;
@@ -387,7 +513,7 @@ int solver_domain_setup(struct solver *s, const struct sph_scene *scene, struct 
 void solver_domain_size(struct solver *s)
 {
     struct domain *d = &s->domain;
-    /* room for the share to grow up to the imbalance that cuts the slabs
+    /* room for the share to grow up to the imbalance that cuts the boxes
      * again, and for the halos to thicken */
     const int reals = (int)((1.0 + 2.0 * DOMAIN_IMBALANCE) * d->n_scene / d->size) + 256;
     s->n_real = s->n = d->initial_reals;
@@ -444,17 +570,20 @@ static int read_records(struct solver *s, struct records *r)
     return 0;
 }
 
-static double record_coordinate(const struct solver *s, const unsigned char *record, int axis)
+/* A record's position (3 coordinates; z = 0 in 2-D). */
+static void record_position(const struct solver *s, const unsigned char *record, double x[3])
 {
-    const size_t at = sizeof(int); /* FIELD_POS is the registry's first field */
-    if (s->double_precision) {
-        double v;
-        memcpy(&v, record + at + (size_t)axis * sizeof v, sizeof v);
-        return v;
+    const unsigned char *at = record + sizeof(int); /* FIELD_POS: the registry's first */
+    x[2] = 0;
+    for (int a = 0; a < s->dim; ++a) {
+        if (s->double_precision) {
+            memcpy(&x[a], at + (size_t)a * sizeof(double), sizeof(double));
+        } else {
+            float v;
+            memcpy(&v, at + (size_t)a * sizeof v, sizeof v);
+            x[a] = v;
+        }
     }
-    float v;
-    memcpy(&v, record + at + (size_t)axis * sizeof v, sizeof v);
-    return v;
 }
 
 static int record_flags(const struct solver *s, const struct records *r,
@@ -562,8 +691,8 @@ static int merge_records(const struct records *kept_from, const int *dest, int r
     return 0;
 }
 
-/* Cuts the slabs again when the shares have drifted apart: every rank's
- * coordinates along the axis, gathered and split into equal shares. */
+/* Cuts the domains again when the shares have drifted apart: every rank's
+ * positions, gathered and bisected as at the start. */
 static int rebalance(struct solver *s, const struct records *r)
 {
     struct domain *d = &s->domain;
@@ -572,49 +701,68 @@ static int rebalance(struct solver *s, const struct records *r)
     dist_sum(&share[1], 1);
     if (share[0] <= (1.0 + DOMAIN_IMBALANCE) * share[1] / d->size)
         return 0;
-    double *mine = malloc(sizeof(double) * (size_t)r->count + 1), *all = NULL;
-    int total = 0, failed = !mine;
-    for (int p = 0; mine && p < r->count; ++p)
-        mine[p] = record_coordinate(s, r->data + (size_t)p * r->bytes, d->axis);
-    failed = dist_allgather(mine, mine ? r->count : 0, &all, &total) || failed;
-    if (!failed) {
-        cut_equal_shares(d, all, total);
-        ++d->rebalances;
+    /* positions, then halo widths */
+    double *mine = malloc(3 * sizeof(double) * (size_t)r->count + 1), *all = NULL;
+    double *width = malloc(sizeof(double) * (size_t)r->count + 1), *widths = NULL;
+    int total = 0, n = 0, failed = !mine || !width;
+    for (int p = 0; !failed && p < r->count; ++p) {
+        const unsigned char *rec = r->data + (size_t)p * r->bytes;
+        record_position(s, rec, &mine[3 * p]);
+        width[p] = halo_width(s, record_flags(s, r, rec));
     }
-    free(mine), free(all);
+    failed = dist_allgather(mine, failed ? 0 : 3 * r->count, &all, &total) || failed;
+    failed = dist_allgather(width, failed ? 0 : r->count, &widths, &n) || failed;
+    failed = failed || cut_domains(d, all, widths, n, s->dim);
+    if (!failed)
+        ++d->rebalances;
+    free(mine), free(all), free(width), free(widths);
     return failed;
 }
 
-/* Halo send lists: each real within reach of another rank's slab goes to
+/* The ranks other than this one each real reaches (near[p * size + r]). */
+static char *halo_targets(const struct solver *s, const struct records *reals)
+{
+    const struct domain *d = &s->domain;
+    char *near = malloc((size_t)reals->count * (size_t)d->size + 1);
+    for (int p = 0; near && p < reals->count; ++p) {
+        const unsigned char *rec = reals->data + (size_t)p * reals->bytes;
+        double x[3];
+        record_position(s, rec, x);
+        reached_by(s, x, record_flags(s, reals, rec), &near[(size_t)p * d->size]);
+        near[(size_t)p * d->size + d->rank] = 0;
+    }
+    return near;
+}
+
+/* Halo send lists: each real within reach of another rank's domain goes to
  * that rank (a particle may go to several), grouped by rank; *send_ids
  * holds their local ids in the same order. Received halos into `halo`. */
 static int halo_records(struct solver *s, const struct records *reals, struct records *halo,
                         int **send_ids)
 {
     struct domain *d = &s->domain;
+    char *near = halo_targets(s, reals);
     int total = 0;
     memset(d->send_count, 0, sizeof(int) * (size_t)d->size);
-    for (int r = 0; r < d->size; ++r)
-        for (int p = 0; p < reals->count && r != d->rank; ++p) {
-            const unsigned char *rec = reals->data + (size_t)p * reals->bytes;
-            if (reaches(s, r, record_coordinate(s, rec, d->axis), record_flags(s, reals, rec)))
-                ++total, ++d->send_count[r];
-        }
+    for (size_t k = 0; near && k < (size_t)reals->count * (size_t)d->size; ++k)
+        if (near[k])
+            ++total, ++d->send_count[k % (size_t)d->size];
     struct records out = *reals;
     out.count = total;
     out.data = malloc((size_t)total * reals->bytes + 1);
     int *dest = calloc((size_t)total + 1, sizeof(int));
     *send_ids = malloc(sizeof(int) * (size_t)total + 1);
-    int failed = !out.data || !dest || !*send_ids;
+    int failed = !near || !out.data || !dest || !*send_ids;
     for (int r = 0, q = 0; r < d->size && !failed; ++r)
-        for (int p = 0; p < reals->count && r != d->rank; ++p) {
-            const unsigned char *rec = reals->data + (size_t)p * reals->bytes;
-            if (!reaches(s, r, record_coordinate(s, rec, d->axis), record_flags(s, reals, rec)))
+        for (int p = 0; p < reals->count; ++p) {
+            if (!near[(size_t)p * d->size + r])
                 continue;
-            memcpy(out.data + (size_t)q * reals->bytes, rec, reals->bytes);
+            memcpy(out.data + (size_t)q * reals->bytes, reals->data + (size_t)p * reals->bytes,
+                   reals->bytes);
             (*send_ids)[q] = p;
             dest[q++] = r;
         }
+    free(near);
     if (failed) /* every rank still takes part in the exchange */
         out.count = 0;
     failed = send_records(d, &out, dest, halo, d->recv_count) || failed;
@@ -682,7 +830,9 @@ int solver_domain_exchange(struct solver *s, char *error, size_t error_size)
     int *dest = calloc((size_t)reals.count + 1, sizeof(int)), *send_ids = NULL;
     long leaving = 0;
     for (int p = 0; dest && p < reals.count; ++p) {
-        dest[p] = owner_of(d, record_coordinate(s, reals.data + (size_t)p * reals.bytes, d->axis));
+        double x[3];
+        record_position(s, reals.data + (size_t)p * reals.bytes, x);
+        dest[p] = owner_of(d, x);
         leaving += dest[p] != d->rank;
     }
     failed = !dest || failed;
@@ -702,7 +852,7 @@ int solver_domain_exchange(struct solver *s, char *error, size_t error_size)
     if (!failed && merged.count + halo.count > room)
         failed = snprintf(error, error_size,
                           "its %d particles and %d halo particles outgrew the %d slots made for "
-                          "them (the shares drifted apart faster than the slabs were re-cut)",
+                          "them (the shares drifted apart faster than the domains were re-cut)",
                           merged.count, halo.count, room) > 0;
     else if (failed)
         snprintf(error, error_size, "out of host memory exchanging particles");
@@ -795,7 +945,23 @@ void solver_domain_refresh(struct solver *s, const enum field *fields, int count
     unpack_halo(s, &h);
 }
 
-/* ---- checkpoints: this rank's share, the slabs and the halo's lists */
+/* ---- checkpoints: this rank's share, the boxes and the halo's lists */
+
+/* A tree read back: preorder (a child node comes after its parent, so the
+ * descent ends), every leaf a rank, every axis a dimension. */
+static int valid_tree(const struct domain *d, int dim)
+{
+    for (int c = 0; c < d->size - 1; ++c) {
+        if (d->split_axis[c] < 0 || d->split_axis[c] >= dim)
+            return 0;
+        for (int side = 0; side < 2; ++side) {
+            const int next = d->child[2 * c + side];
+            if (next < -d->size || (next >= 0 && (next <= c || next >= d->size - 1)))
+                return 0;
+        }
+    }
+    return 1;
+}
 
 void solver_domain_records(struct solver *s, struct checkpoint *k, int load)
 {
@@ -807,7 +973,10 @@ void solver_domain_records(struct solver *s, struct checkpoint *k, int load)
     CHECKPOINT_RECORD(k, "domain.", d->rebalances, load);
     CHECKPOINT_RECORD(k, "domain.", d->halo_bytes_sent, load);
     const size_t ranks = (size_t)d->size;
-    checkpoint_record(k, "domain.cut", d->cut, sizeof(double) * (ranks + 1), load);
+    /* the bisection tree: size - 1 nodes */
+    checkpoint_record(k, "domain.split_axis", d->split_axis, sizeof(int) * (ranks - 1), load);
+    checkpoint_record(k, "domain.split_at", d->split_at, sizeof(double) * (ranks - 1), load);
+    checkpoint_record(k, "domain.child", d->child, 2 * sizeof(int) * (ranks - 1), load);
     checkpoint_record(k, "domain.send_count", d->send_count, sizeof(int) * ranks, load);
     checkpoint_record(k, "domain.recv_count", d->recv_count, sizeof(int) * ranks, load);
     const int room = s->capacity - s->ghosts.capacity;
@@ -815,6 +984,8 @@ void solver_domain_records(struct solver *s, struct checkpoint *k, int load)
         (s->n_real < 0 || d->halo_count < 0 || d->send_total < 0 ||
          s->n_real + d->halo_count > room))
         checkpoint_fail(k, "an impossible particle count in", "domain.s->n_real");
+    if (load && !k->failed && !valid_tree(d, s->dim))
+        checkpoint_fail(k, "an impossible bisection tree in", "domain.child");
     if (k->failed)
         return;
     int *ids = calloc((size_t)d->send_total + 1, sizeof(int));
@@ -838,19 +1009,28 @@ void solver_domain_records(struct solver *s, struct checkpoint *k, int load)
 
 /* ---- the step's reductions over every rank */
 
-void solver_domain_reduce(const struct solver *s, struct reduction *r)
+void solver_domain_reduce(const struct solver *s, struct reduction *r, double *contact)
 {
     const struct domain *d = &s->domain;
     if (!d->active)
         return;
-    double sums[15] = {r->load_power, r->kinetic,       r->internal,
-                       r->wall_power, r->viscous_power, r->hourglass_power};
+    double sums[15 + SPH_CONTACT_SLOTS] = {r->load_power, r->kinetic,       r->internal,
+                                           r->wall_power, r->viscous_power, r->hourglass_power};
     for (int a = 0; a < 3; ++a) {
         sums[6 + a] = r->probe_displacement[a];
         sums[9 + a] = r->momentum[a];
         sums[12 + a] = r->wall_force[a];
     }
-    dist_sum(sums, 15);
+    for (int k = 0; contact && k < SPH_CONTACT_SLOTS; ++k)
+        sums[15 + k] = contact[k];
+    /* with the scene index of the lowest unhealthy particle anywhere, as
+     * its negative: one maximum takes all four */
+    const double bad = r->bad_id >= 0 && r->bad_id < s->n_real ? d->global_id[r->bad_id] : HUGE_VAL;
+    double maxima[4] = {r->max_signal, r->max_speed, r->max_drift_speed, -bad};
+    /* one Allreduce per step */
+    dist_sum_max(sums, contact ? 15 + SPH_CONTACT_SLOTS : 15, maxima, 4);
+    for (int k = 0; contact && k < SPH_CONTACT_SLOTS; ++k)
+        contact[k] = sums[15 + k];
     r->load_power = sums[0], r->kinetic = sums[1], r->internal = sums[2];
     r->wall_power = sums[3], r->viscous_power = sums[4], r->hourglass_power = sums[5];
     for (int a = 0; a < 3; ++a) {
@@ -858,11 +1038,6 @@ void solver_domain_reduce(const struct solver *s, struct reduction *r)
         r->momentum[a] = sums[9 + a];
         r->wall_force[a] = sums[12 + a];
     }
-    /* with the scene index of the lowest unhealthy particle anywhere, as
-     * its negative: one maximum takes all four */
-    const double bad = r->bad_id >= 0 && r->bad_id < s->n_real ? d->global_id[r->bad_id] : HUGE_VAL;
-    double maxima[4] = {r->max_signal, r->max_speed, r->max_drift_speed, -bad};
-    dist_max(maxima, 4);
     r->max_signal = maxima[0], r->max_speed = maxima[1], r->max_drift_speed = maxima[2];
     r->bad_id = isfinite(maxima[3]) ? (long)-maxima[3] : -1;
 }
@@ -900,9 +1075,11 @@ void solver_domain_release(struct solver *s)
     solver_release_buffer(&d->send_ids);
     solver_release_buffer(&d->staging_out);
     solver_release_buffer(&d->staging_in);
-    free(d->cut), free(d->global_id), free(d->send_count), free(d->recv_count);
+    free(d->split_axis), free(d->split_at), free(d->child);
+    free(d->global_id), free(d->send_count), free(d->recv_count);
     free(d->send_bytes), free(d->recv_bytes), free(d->host_out), free(d->host_in);
-    d->cut = NULL, d->global_id = NULL, d->send_count = d->recv_count = NULL;
+    d->split_axis = d->child = NULL, d->split_at = NULL;
+    d->global_id = NULL, d->send_count = d->recv_count = NULL;
     d->send_bytes = d->recv_bytes = NULL, d->host_out = d->host_in = NULL;
 }
 

@@ -25,6 +25,10 @@ void dist_sum(double *v, size_t n);
 void dist_max(double *v, size_t n);
 void dist_min(double *v, size_t n);
 void dist_sum_ints(int *v, size_t n);
+void dist_or_bytes(char *v, size_t n);
+/* Sums of `sums` and maxima of `maxima` in one collective (a step's
+ * reduction: one latency, not two); at most 64 values together. */
+void dist_sum_max(double *sums, int n_sums, double *maxima, int n_maxima);
 int dist_any(int flag);
 int dist_bcast_int(int value); /* rank 0's */
 /* Whether any process failed: the lowest failing rank's `error` (with its
@@ -42,17 +46,30 @@ void dist_exchange_known(const void *send, const int *send_bytes, void *recv,
 /* Every process's `count` doubles, in rank order, into *all (allocated). */
 int dist_allgather(const double *mine, int count, double **all, int *total);
 
-/* The spatial domains: slabs normal to one axis, one per rank, cut so each
- * holds an equal share of the particles and cut again when the shares
- * drift apart (DOMAIN_IMBALANCE). Ghost slots after the real particles hold
- * the halo: the particles of other ranks within a support (plus the grid's
- * skin) of this rank's slab, refreshed before each neighbour pass. */
+#ifdef SPH_PARALLEL_HDF5
+#include <hdf5.h>
+/* Sets HDF5 file access and dataset transfer properties for one file that
+ * every process writes together (MPI-IO, collective transfers); non-zero
+ * on failure. */
+int dist_hdf5_collective(hid_t file_access, hid_t transfer);
+#endif
+
+/* The spatial domains: boxes, one per rank, the leaves of an orthogonal
+ * recursive bisection (each cut across the longest side of its particles'
+ * bounding box, at the share of the ranks on either side), cut again when
+ * the shares drift apart (DOMAIN_IMBALANCE). Ghost slots after the real
+ * particles hold the halo: the particles of other ranks within a support
+ * (plus the grid's skin) of this rank's box, refreshed before each
+ * neighbour pass. */
 #define DOMAIN_IMBALANCE 0.1 /* largest share over the mean, less one */
 struct domain {
     int active; /* more than one process */
     int rank, size;
-    int axis;          /* slabs are cut normal to it */
-    double *cut;       /* size + 1 slab boundaries along axis, m (first -inf, last +inf) */
+    /* the bisection tree, size - 1 nodes in preorder, node 0 the root: node
+     * c cuts across axis split_axis[c] at split_at[c] (m); child[2c] is
+     * below the cut, child[2c + 1] above, each a node or -1 - rank */
+    int *split_axis, *child;
+    double *split_at;
     int n_scene;       /* particles of the whole case */
     int initial_reals; /* this rank's share of the scene */
     int *global_id;    /* scene index of each local real particle (local id) */

@@ -153,15 +153,15 @@ static void unpack_element(const struct solver *s, enum element_kind kind,
     }
 }
 
-/* Reads field f into its column by scene index (row_of_slot: each device
- * slot's, -1 for ghost and halo slots, which are skipped). */
+/* Reads field f into its column (row_of_slot: each device slot's row, -1
+ * for ghost and halo slots, which are skipped). */
 static int read_column(struct solver *s, enum field f, const int *row_of_slot,
-                       struct host_column *col)
+                       struct host_fields *o, struct host_column *col)
 {
     const enum element_kind kind = field_table[f].kind;
     const size_t element = s->element_size[kind], n = (size_t)s->n;
     unsigned char *raw = CHECKED_CALLOC(element * n + 1, 1, "field read-back");
-    col->data = CHECKED_CALLOC((size_t)s->n_scene * col->components + 1,
+    col->data = CHECKED_CALLOC((size_t)o->n * col->components + 1,
                                col->is_int ? sizeof(int) : sizeof(double), "snapshot field");
     if (!raw || !col->data) {
         free(raw);
@@ -173,28 +173,54 @@ static int read_column(struct solver *s, enum field f, const int *row_of_slot,
         if (row_of_slot[k] >= 0)
             unpack_element(s, kind, raw + k * element, col, row_of_slot[k]);
     if (f == FIELD_ID) /* the scene index, not a rank's own numbering */
-        for (size_t k = 0; k < n; ++k)
-            if (row_of_slot[k] >= 0)
-                ((int *)col->data)[row_of_slot[k]] = row_of_slot[k];
+        for (int row = 0; row < o->n; ++row)
+            ((int *)col->data)[row] = o->id ? o->id[row] : row;
     free(raw);
-    /* over several processes each rank filled its own rows; the others
-     * are zero, so the sum is every rank's column, exactly */
-    const size_t values = (size_t)s->n_scene * col->components;
-    if (s->domain.active && col->is_int)
+    /* gathered over several processes: each rank filled its own rows and
+     * the others are zero, so the sum is every rank's column, exactly */
+    const size_t values = (size_t)o->n * col->components;
+    if (s->domain.active && !o->distributed && col->is_int)
         dist_sum_ints(col->data, values);
-    else if (s->domain.active)
+    else if (s->domain.active && !o->distributed)
         dist_sum(col->data, values);
     return 0;
 }
 
-static int read_slot_ids(struct solver *s, int **ids)
+static int compare_ints(const void *a, const void *b)
 {
-    *ids = CHECKED_CALLOC((size_t)s->n + 1, sizeof(int), "field read-back");
-    if (!*ids)
+    const int x = *(const int *)a, y = *(const int *)b;
+    return (x > y) - (x < y);
+}
+
+/* Each device slot's row: its scene index when the rows are the whole
+ * scene; when they are this rank's share, its place among the rank's
+ * scene indices in ascending order (o->id). */
+static int read_rows(struct solver *s, struct host_fields *o, int **row_of_slot)
+{
+    *row_of_slot = CHECKED_CALLOC((size_t)s->n + 1, sizeof(int), "field read-back");
+    if (!*row_of_slot)
         return 1;
+    int *rows = *row_of_slot;
     CL_CHECK(clEnqueueReadBuffer(s->dev->queue, s->field[FIELD_ID], CL_TRUE, 0,
-                                 sizeof(cl_int) * (size_t)s->n, *ids, 0, NULL, NULL));
-    solver_domain_rows(s, *ids, s->n);
+                                 sizeof(cl_int) * (size_t)s->n, rows, 0, NULL, NULL));
+    solver_domain_rows(s, rows, s->n);
+    if (!o->distributed)
+        return 0;
+    /* (scene index, slot) pairs sorted by scene index */
+    int *pairs = CHECKED_CALLOC(2 * (size_t)s->n + 1, sizeof(int), "field read-back");
+    o->id = CHECKED_CALLOC((size_t)s->n + 1, sizeof(int), "snapshot ids");
+    if (!pairs || !o->id) {
+        free(pairs);
+        return 1;
+    }
+    o->n = 0;
+    for (int k = 0; k < s->n; ++k)
+        if (rows[k] >= 0)
+            pairs[2 * o->n] = rows[k], pairs[2 * o->n + 1] = k, ++o->n;
+    qsort(pairs, (size_t)o->n, 2 * sizeof(int), compare_ints);
+    for (int row = 0; row < o->n; ++row)
+        o->id[row] = pairs[2 * row], rows[pairs[2 * row + 1]] = row;
+    free(pairs);
     return 0;
 }
 
@@ -230,9 +256,12 @@ static int derive_columns(const struct solver *s, struct host_fields *o)
 int solver_read_fields(struct solver *s, struct host_fields *o)
 {
     memset(o, 0, sizeof *o);
-    o->n = s->n_scene;
+    o->n = o->n_total = s->n_scene;
+#ifdef SPH_PARALLEL_HDF5
+    o->distributed = s->domain.active; /* written collectively (host/output.c) */
+#endif
     int *row_of_slot = NULL;
-    int failed = read_slot_ids(s, &row_of_slot);
+    int failed = read_rows(s, o, &row_of_slot);
     for (int f = 0; f < FIELD_COUNT && !failed; ++f) {
         const struct field_info *info = &field_table[f];
         const int derived_input = f == FIELD_STRESS;
@@ -240,10 +269,12 @@ int solver_read_fields(struct solver *s, struct host_fields *o)
             continue;
         o->column[f] = (struct host_column){info->name, info->units, host_components(info->kind),
                                             info->kind == ELEM_INT, NULL};
-        failed = read_column(s, (enum field)f, row_of_slot, &o->column[f]);
+        failed = read_column(s, (enum field)f, row_of_slot, o, &o->column[f]);
     }
     free(row_of_slot);
     failed = failed || derive_columns(s, o);
+    if (o->distributed) /* every rank goes on to write, or none */
+        failed = dist_any(failed);
     if (failed)
         host_fields_free(o);
     return failed;
@@ -253,5 +284,6 @@ void host_fields_free(struct host_fields *f)
 {
     for (int k = 0; k < HOST_COLUMNS; ++k)
         free(f->column[k].data);
+    free(f->id);
     memset(f, 0, sizeof *f);
 }

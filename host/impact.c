@@ -5,7 +5,9 @@
  * that rebounds off the wall is measured the same way); the largest
  * plastic strain and temperature; the damaged particles. */
 #include <math.h>
+#include <string.h>
 
+#include "domain.h"
 #include "run_parts.h"
 
 static void measure_footprint(struct impact_metrics *m, const struct sph_case *c,
@@ -16,7 +18,9 @@ static void measure_footprint(struct impact_metrics *m, const struct sph_case *c
     const double *pos = HOST_REALS(f, FIELD_POS);
     const int *flags = HOST_INTS(f, FIELD_FLAGS);
     double lowest = HUGE_VAL, highest = -HUGE_VAL, radius = 0;
-    for (int pass = 0; pass < 2; ++pass)
+    for (int pass = 0; pass < 2; ++pass) {
+        if (pass == 1 && f->distributed) /* each rank holds its share */
+            dist_min(&lowest, 1), dist_max(&highest, 1);
         for (int p = 0; p < f->n; ++p) {
             if (flags[p] & SPH_FLAG_FIXED)
                 continue;
@@ -37,6 +41,9 @@ static void measure_footprint(struct impact_metrics *m, const struct sph_case *c
                 radius = fmax(radius, sqrt(lateral));
             }
         }
+    }
+    if (f->distributed)
+        dist_max(&radius, 1);
     m->final_length = highest - lowest + dx;
     m->footprint_radius = radius + 0.5 * dx;
 }
@@ -47,14 +54,23 @@ void impact_measure(struct impact_metrics *m, const struct sph_case *c, const st
     const double *plastic_strain = HOST_REALS(f, FIELD_PLASTIC_STRAIN);
     const double *temperature = HOST_REALS(f, FIELD_TEMPERATURE);
     const int *flags = HOST_INTS(f, FIELD_FLAGS);
-    int count = 0;
+    double most[2] = {m->max_plastic_strain, m->max_temperature}, count = 0;
+    if (f->distributed) /* rows of other ranks are theirs to mark */
+        memset(damaged, 0, (size_t)f->n_total);
     for (int p = 0; p < f->n; ++p) {
-        m->max_plastic_strain = fmax(m->max_plastic_strain, plastic_strain[p]);
-        m->max_temperature = fmax(m->max_temperature, temperature[p]);
-        damaged[p] = (flags[p] & SPH_FLAG_DAMAGED) != 0;
-        count += damaged[p];
+        most[0] = fmax(most[0], plastic_strain[p]);
+        most[1] = fmax(most[1], temperature[p]);
+        const int hit = (flags[p] & SPH_FLAG_DAMAGED) != 0;
+        damaged[f->id ? f->id[p] : p] = (char)hit;
+        count += hit;
     }
-    m->damaged_fraction = fmax(m->damaged_fraction, (double)count / (f->n > 0 ? f->n : 1));
+    if (f->distributed) {
+        dist_max(most, 2);
+        dist_sum(&count, 1);
+        dist_or_bytes(damaged, (size_t)f->n_total);
+    }
+    m->max_plastic_strain = most[0], m->max_temperature = most[1];
+    m->damaged_fraction = fmax(m->damaged_fraction, count / (f->n_total > 0 ? f->n_total : 1));
     if (c->wall_count > 0)
         measure_footprint(m, c, f);
 }

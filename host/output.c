@@ -273,14 +273,58 @@ void output_ballistics(struct output *o, const struct ballistics_row *r)
     fputc('\n', o->ballistics);
 }
 
-/* Writes one dataset with a "units" attribute. */
-static int write_dataset(hid_t where, const char *name, hid_t type, const void *data, hsize_t rows,
-                         hsize_t cols, const char *units)
+/* The rows of a dataset this process writes: all of them (`id` NULL), or,
+ * when the ranks write one file together, its share: `count` rows whose
+ * scene indices `id` ascend, placed by runs of consecutive indices. */
+struct rows {
+    hsize_t total; /* rows of the dataset */
+    int count;     /* rows held here */
+    const int *id;
+    hid_t transfer; /* H5P_DEFAULT, or collective MPI-IO */
+    int writes;     /* this process writes its rows (0: it only takes part in creating) */
+};
+
+/* Selects this process's rows of `file_space` and returns the matching
+ * memory space. */
+static hid_t select_rows(hid_t file_space, const struct rows *r, hsize_t cols)
 {
-    const hsize_t dims[2] = {rows, cols};
+    if (!r->id) {
+        if (!r->writes)
+            H5Sselect_none(file_space);
+        return H5S_ALL;
+    }
+    const hsize_t mem_dims[2] = {r->count > 0 ? (hsize_t)r->count : 1, cols};
+    hid_t memory = H5Screate_simple(cols > 1 ? 2 : 1, mem_dims, NULL);
+    if (r->count == 0) {
+        H5Sselect_none(memory);
+        H5Sselect_none(file_space);
+        return memory;
+    }
+    for (int k = 0, run; k < r->count; k += run) {
+        for (run = 1; k + run < r->count && r->id[k + run] == r->id[k] + run; ++run)
+            ;
+        const hsize_t start[2] = {(hsize_t)r->id[k], 0}, count[2] = {(hsize_t)run, cols};
+        H5Sselect_hyperslab(file_space, k == 0 ? H5S_SELECT_SET : H5S_SELECT_OR, start, NULL, count,
+                            NULL);
+    }
+    return memory;
+}
+
+/* Writes one dataset, this process's rows of it, with a "units" attribute. */
+static int write_rows(hid_t where, const char *name, hid_t type, const void *data,
+                      const struct rows *r, hsize_t cols, const char *units)
+{
+    const hsize_t dims[2] = {r->total, cols};
     hid_t space = H5Screate_simple(cols > 1 ? 2 : 1, dims, NULL);
     hid_t set = H5Dcreate2(where, name, type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-    herr_t status = set >= 0 ? H5Dwrite(set, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) : -1;
+    herr_t status = set >= 0 ? 0 : -1;
+    if (set >= 0 && (r->writes || r->transfer != H5P_DEFAULT)) {
+        hid_t memory = select_rows(space, r, cols);
+        status =
+            H5Dwrite(set, type, memory, memory == H5S_ALL ? H5S_ALL : space, r->transfer, data);
+        if (memory != H5S_ALL)
+            H5Sclose(memory);
+    }
     if (set >= 0) {
         hid_t text = H5Tcopy(H5T_C_S1), scalar = H5Screate(H5S_SCALAR);
         H5Tset_size(text, strlen(units) + 1);
@@ -294,6 +338,15 @@ static int write_dataset(hid_t where, const char *name, hid_t type, const void *
     }
     H5Sclose(space);
     return status < 0;
+}
+
+/* A small dataset of the whole run (the projectile, the walls): rank 0's
+ * rows, written by it alone. */
+static int write_dataset(hid_t where, const char *name, hid_t type, const void *data, hsize_t rows,
+                         hsize_t cols, const char *units, int writes)
+{
+    const struct rows all = {rows, (int)rows, NULL, H5P_DEFAULT, writes};
+    return write_rows(where, name, type, data, &all, cols, units);
 }
 
 static int write_attribute(hid_t where, const char *name, hid_t type, const void *value,
@@ -332,7 +385,8 @@ static void note_columns(struct output *o, const struct host_fields *f)
 #define SPHERE_SECTORS 16
 #define CIRCLE_SEGMENTS 48
 
-static int write_projectile_shape(hid_t file, int dim, double radius, const double centre[3])
+static int write_projectile_shape(hid_t file, int dim, double radius, const double centre[3],
+                                  int writes)
 {
     double points[3 * (SPHERE_SECTORS * (SPHERE_RINGS - 1) + 2)];
     int cells[3 * 2 * SPHERE_SECTORS * (SPHERE_RINGS - 1)];
@@ -377,9 +431,10 @@ static int write_projectile_shape(hid_t file, int dim, double radius, const doub
     hid_t group = H5Gcreate2(file, "projectile", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
     if (group < 0)
         return 1;
-    int bad = write_dataset(group, "points", H5T_NATIVE_DOUBLE, points, (hsize_t)np, 3, "m");
+    int bad =
+        write_dataset(group, "points", H5T_NATIVE_DOUBLE, points, (hsize_t)np, 3, "m", writes);
     bad |= write_dataset(group, "cells", H5T_NATIVE_INT, cells, (hsize_t)nc, (hsize_t)width,
-                         "point indices");
+                         "point indices", writes);
     return (H5Gclose(group) < 0) | bad;
 }
 
@@ -414,31 +469,55 @@ static int write_walls(hid_t file, const struct output *o)
     if (group < 0)
         return 1;
     const hsize_t count = (hsize_t)(o->wall_count * corners);
-    int bad = write_dataset(group, "points", H5T_NATIVE_DOUBLE, points, count, 3, "m");
+    const int writes = !o->silent;
+    int bad = write_dataset(group, "points", H5T_NATIVE_DOUBLE, points, count, 3, "m", writes);
     bad |= write_dataset(group, "cells", H5T_NATIVE_INT, cells, (hsize_t)o->wall_count,
-                         (hsize_t)corners, "point indices");
+                         (hsize_t)corners, "point indices", writes);
     return (H5Gclose(group) < 0) | bad;
+}
+
+/* The file's access and transfer properties: one process's file, or
+ * (distributed rows) one file every rank writes with collective MPI-IO. */
+static int snapshot_properties(const struct host_fields *f, hid_t *access, hid_t *transfer)
+{
+    /* a failed write still closes every object (strong close degree), so
+     * nothing is left open for HDF5's exit handler */
+    *access = H5Pcreate(H5P_FILE_ACCESS);
+    *transfer = H5P_DEFAULT;
+    int bad = H5Pset_fclose_degree(*access, H5F_CLOSE_STRONG) < 0;
+#ifdef SPH_PARALLEL_HDF5
+    if (f->distributed) {
+        *transfer = H5Pcreate(H5P_DATASET_XFER);
+        bad |= dist_hdf5_collective(*access, *transfer);
+    }
+#endif
+    return bad;
 }
 
 static int write_snapshot_file(const struct output *o, const char *path,
                                const struct host_fields *f, const struct snapshot_meta *m)
 {
-    /* a failed write still closes every object (strong close degree), so
-     * nothing is left open for HDF5's exit handler */
-    hid_t access = H5Pcreate(H5P_FILE_ACCESS);
-    H5Pset_fclose_degree(access, H5F_CLOSE_STRONG);
+    hid_t access, transfer;
+    int bad = snapshot_properties(f, &access, &transfer);
     hid_t file = H5Fcreate(path, H5F_ACC_TRUNC, H5P_DEFAULT, access);
     H5Pclose(access);
-    if (file < 0)
+    /* every rank goes on to the collective calls, or none */
+    if (f->distributed ? dist_any(file < 0) : file < 0) {
+        if (file >= 0)
+            H5Fclose(file);
+        if (transfer != H5P_DEFAULT)
+            H5Pclose(transfer);
         return 1;
-    const hsize_t n = (hsize_t)f->n;
-    int bad = 0;
+    }
+    const struct rows mine = {(hsize_t)f->n_total, f->n, f->id, transfer, 1};
     for (int k = 0; k < HOST_COLUMNS; ++k) {
         const struct host_column *col = &f->column[k];
         if (col->data && col->units)
-            bad |= write_dataset(file, col->name, col->is_int ? H5T_NATIVE_INT : H5T_NATIVE_DOUBLE,
-                                 col->data, n, (hsize_t)col->components, col->units);
+            bad |= write_rows(file, col->name, col->is_int ? H5T_NATIVE_INT : H5T_NATIVE_DOUBLE,
+                              col->data, &mine, (hsize_t)col->components, col->units);
     }
+    if (transfer != H5P_DEFAULT)
+        H5Pclose(transfer);
     const long long step = m->step;
     const int dim = o->dim;
     bad |= write_attribute(file, "time_s", H5T_NATIVE_DOUBLE, &m->time, 1);
@@ -449,7 +528,8 @@ static int write_snapshot_file(const struct output *o, const char *path,
                                3);
         bad |= write_attribute(file, "projectile_velocity_m_per_s", H5T_NATIVE_DOUBLE,
                                m->projectile_velocity, 3);
-        bad |= write_projectile_shape(file, o->dim, o->projectile_radius, m->projectile_centre);
+        bad |= write_projectile_shape(file, o->dim, o->projectile_radius, m->projectile_centre,
+                                      !o->silent);
     }
     if (o->wall_count > 0)
         bad |= write_walls(file, o);
@@ -583,10 +663,12 @@ static void place_walls(struct output *o, const struct host_fields *f)
     for (int i = 0; i < f->n; ++i)
         for (int a = 0; a < 3; ++a)
             lo[a] = fmin(lo[a], pos[3 * i + a]), hi[a] = fmax(hi[a], pos[3 * i + a]);
+    if (f->distributed)
+        dist_min(lo, 3), dist_max(hi, 3);
     double diagonal = 0, centre[3];
     for (int a = 0; a < 3; ++a) {
-        centre[a] = f->n ? 0.5 * (lo[a] + hi[a]) : 0;
-        diagonal += f->n ? (hi[a] - lo[a]) * (hi[a] - lo[a]) : 0;
+        centre[a] = f->n_total ? 0.5 * (lo[a] + hi[a]) : 0;
+        diagonal += f->n_total ? (hi[a] - lo[a]) * (hi[a] - lo[a]) : 0;
     }
     o->wall_half_width = fmax(0.5 * sqrt(diagonal), 1e-6);
     for (int w = 0; w < o->wall_count; ++w) {
@@ -603,7 +685,7 @@ int output_snapshot(struct output *o, const struct host_fields *f, const struct 
 {
     if (o->snapshot_count >= SPH_MAX_SNAPSHOTS)
         return 0;
-    if (o->silent) {
+    if (o->silent && !f->distributed) { /* rank 0 writes what it gathered */
         o->snapshot_times[o->snapshot_count++] = meta->time;
         return 0;
     }
@@ -613,13 +695,19 @@ int output_snapshot(struct output *o, const struct host_fields *f, const struct 
     char path[SPH_PATH_MAX + 64], temporary[SPH_PATH_MAX + 80];
     snprintf(path, sizeof path, "%s/snap_%05d.h5", o->folder, o->snapshot_count);
     output_temporary_name(path, temporary, sizeof temporary);
-    if (write_snapshot_file(o, temporary, f, meta) != 0 || rename(temporary, path) != 0) {
-        remove(temporary);
+    int bad = write_snapshot_file(o, temporary, f, meta);
+    if (f->distributed) /* every rank wrote its share */
+        bad = dist_any(bad);
+    if (bad || (!o->silent && rename(temporary, path) != 0)) {
+        if (!o->silent)
+            remove(temporary);
         snprintf(error, error_size, "cannot write snapshot %s (disk full, or a file size limit?)",
                  path);
         return 1;
     }
     o->snapshot_times[o->snapshot_count++] = meta->time;
+    if (o->silent)
+        return 0;
     if (write_xdmf(o) != 0) {
         snprintf(error, error_size, "cannot write %s/snapshots.xdmf or bodies.xdmf: %s", o->folder,
                  strerror(errno));

@@ -292,22 +292,27 @@ void solver_prime(struct solver *s);
  * (m/s): cfl h / max_signal, or the physical viscosity's limit when that is
  * smaller (case_viscous_time_step). */
 double solver_time_step(const struct solver *s, double cfl, double max_signal);
-/* One leap-frog step (see kernels/integrate.cl): pass 2, kick, pass 1,
- * material update, drift. `load` is the force per loaded particle at t^n. */
+/* One leap-frog step of the particles (see kernels/integrate.cl): pass 2,
+ * the projectile's contact, kick, pass 1, material update, drift. `load`
+ * is the force per loaded particle at t^n. */
 void solver_step(struct solver *s, double dt, double dt_prev, const double load[3]);
 void solver_reduce(struct solver *s, const double load[3], struct reduction *out);
 /* A step as `sph run` and `sph bench` take it: re-sort when a particle may
  * have moved half the grid's skin since the last sort (moved_since_sort,
- * the sum of the steps' largest drift x dt), solver_step, and
- * solver_reduce into `red`. Returns non-zero with `error` when the sort
- * fails. */
+ * the sum of the steps' largest drift x dt), solver_step, the reduction
+ * into `red` and the projectile's advance. Returns non-zero with `error`
+ * when the sort fails. */
 int solver_advance(struct solver *s, double dt, double dt_prev, const double load[3],
                    struct reduction *red, char *error, size_t error_size);
 
 /* Host copies of the fields a snapshot writes (field_table's units) and of
- * what is derived from them for output, in the scene's particle order (row
- * = id). Vectors have 3 components (z = 0 in 2-D), symmetric tensors 6 in
- * ParaView's Tensor6 order (XX, YY, ZZ, XY, YZ, XZ). */
+ * what is derived from them for output, in the scene's particle order.
+ * Vectors have 3 components (z = 0 in 2-D), symmetric tensors 6 in
+ * ParaView's Tensor6 order (XX, YY, ZZ, XY, YZ, XZ). One process, or
+ * several that gather: every particle, row = id. Several writing
+ * collectively (parallel HDF5): `distributed`, this rank's particles only,
+ * rows in ascending scene index `id[row]`; whatever is measured on them
+ * is reduced over the ranks. */
 enum derived_output { DERIVED_STRESS, DERIVED_VON_MISES, DERIVED_SMOOTHING_LENGTH, DERIVED_COUNT };
 #define HOST_COLUMNS                                                                               \
     (FIELD_COUNT + DERIVED_COUNT) /* column f: field f; FIELD_COUNT + d: derived d */
@@ -317,7 +322,10 @@ struct host_column {
     void *data; /* NULL: not read (not written, or not used by this formulation) */
 };
 struct host_fields {
-    int n;
+    int n;           /* rows held here */
+    int n_total;     /* particles of the whole case */
+    int distributed; /* rows are this rank's share */
+    int *id;         /* scene index of each row; NULL when row = id */
     struct host_column column[HOST_COLUMNS];
 };
 #define HOST_REALS(fields, f) ((const double *)(fields)->column[f].data)
@@ -347,7 +355,9 @@ double solver_reach_scale(const struct solver *s, int flags);
  * makes room after the mirrors' set-up; solver_domain_exchange migrates
  * particles and rebuilds the halo at a re-sort; solver_domain_refresh
  * copies fields into the halo (solver_ghosts_refresh calls it);
- * solver_domain_reduce makes a step's reduction global; solver_domain_rows
+ * solver_domain_reduce makes a step's reduction global (with the
+ * projectile's SPH_CONTACT_SLOTS contact sums in the same Allreduce when
+ * `contact` is not NULL); solver_domain_rows
  * turns slot ids into scene indices (-1: not a real of this rank). */
 int solver_domain_setup(struct solver *s, const struct sph_scene *scene, struct sph_scene *local,
                         char *error, size_t error_size);
@@ -356,17 +366,22 @@ void solver_domain_create(struct solver *s);
 void solver_domain_release(struct solver *s);
 int solver_domain_exchange(struct solver *s, char *error, size_t error_size);
 void solver_domain_refresh(struct solver *s, const enum field *fields, int count);
-void solver_domain_reduce(const struct solver *s, struct reduction *r);
+void solver_domain_reduce(const struct solver *s, struct reduction *r, double *contact);
 void solver_domain_rows(const struct solver *s, int *row_of_slot, int n);
 /* Means over the ranks (collective): halo particles now, and bytes each
  * rank's halo refreshes sent over the run. */
 void solver_domain_figures(const struct solver *s, double *halo_particles, double *halo_bytes);
 
 /* The rigid projectile (host/ballistics.c): set-up from the case and the
- * scene, the two launches of a step, and the history's reading. */
+ * scene, the two launches of a step (the advance after the step's
+ * reduction, so that over several processes the contact sums ride in its
+ * Allreduce: solver_projectile_sums reads this rank's, _share writes the
+ * whole model's back), and the history's reading. */
 int solver_projectile_create(struct solver *s, const struct sph_case *c,
                              const struct sph_scene *scene, char *error, size_t error_size);
 void solver_projectile_contact(struct solver *s, double dt, double dt_prev);
+void solver_projectile_sums(struct solver *s, double sum[SPH_CONTACT_SLOTS]);
+void solver_projectile_share(struct solver *s, const double sum[SPH_CONTACT_SLOTS]);
 void solver_projectile_advance(struct solver *s, double dt, double dt_prev);
 void solver_projectile_read(struct solver *s, struct projectile_reading *out);
 /* Centre (m) and velocity (m/s) only, without the cavity probes. */

@@ -359,8 +359,6 @@ void solver_step(struct solver *s, double dt, double dt_prev, const double load[
              real_value(s, &a_prev, "dt_prev", dt_prev),
              real4_value(s, &a_load, "load_force", load), INT("n", s->n));
     solver_launch(s, s->k.kick, (size_t)s->n, 0);
-    if (s->projectile.enabled)
-        solver_projectile_advance(s, dt, dt_prev);
     deformation_and_material(s, dt);
     /* symmetry planes the particles must not cross (side 0: no plane) */
     double side[3], plane[3];
@@ -413,17 +411,28 @@ static void combine_partials(const struct solver *s, const double *v, struct red
     }
 }
 
-/* Reads `count` per-group partials of the device precision as doubles. */
-void solver_reduce(struct solver *s, const double load[3], struct reduction *out)
+/* The step's reduction; `contact` (a step's, over several processes): the
+ * projectile's contact sums, made global in the same Allreduce. */
+static void reduce(struct solver *s, const double load[3], struct reduction *out, int contact)
 {
     struct real4_arg a_load;
     SET_ARGS(s, s->k.reduce, real4_value(s, &a_load, "load_force", load),
              MEM("partials", s->partials), INT("n", s->n));
     solver_launch(s, s->k.reduce, (size_t)s->reduce_groups * REDUCE_GROUP, REDUCE_GROUP);
-    double values[64 * SPH_RED_SLOTS] = {0};
+    double values[64 * SPH_RED_SLOTS] = {0}, sums[SPH_CONTACT_SLOTS];
     solver_read_reals(s, s->partials, (size_t)s->reduce_groups * SPH_RED_SLOTS, values);
     combine_partials(s, values, out);
-    solver_domain_reduce(s, out);
+    contact = contact && s->domain.active;
+    if (contact)
+        solver_projectile_sums(s, sums);
+    solver_domain_reduce(s, out, contact ? sums : NULL);
+    if (contact)
+        solver_projectile_share(s, sums);
+}
+
+void solver_reduce(struct solver *s, const double load[3], struct reduction *out)
+{
+    reduce(s, load, out, 0);
 }
 
 void solver_health(struct solver *s, struct health_reading *out)
@@ -491,7 +500,11 @@ int solver_advance(struct solver *s, double dt, double dt_prev, const double loa
     if (!s->total_lagrangian && moved && solver_sort(s, error, error_size))
         return 1;
     solver_step(s, dt, dt_prev, load);
-    solver_reduce(s, load, red);
+    reduce(s, load, red, s->projectile.enabled);
+    /* the sphere's leap-frog with the particles' (nothing between the
+     * contact and here reads it) */
+    if (s->projectile.enabled)
+        solver_projectile_advance(s, dt, dt_prev);
     /* no particle has drifted farther than the sum of the steps' largest
      * drift: a bound without a stored position per particle (16 B) */
     s->moved_since_sort += red->max_drift_speed * dt;

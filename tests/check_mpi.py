@@ -2,13 +2,15 @@
 """One case over several MPI processes against the same case as one process
 (host/domain.c): the run completes on every rank count, particles migrate
 between ranks (summary.json counts them) and none is lost or duplicated
-(every snapshot holds each scene index exactly once), and the figures agree
+(every snapshot holds each scene index exactly once, in the serial file's
+order), the snapshots' positions and the figures agree
 with the serial run to the tolerances given (float: the ranks add the same
 terms in another order, so agreement is to rounding, amplified where the
 physics is sensitive).
 
 usage: check_mpi.py SPH CASE OUT --ranks 2 3 [--set K=V ...]
        [--summary KEY REL ...] [--history COLUMN REL ...] [--migration required|none|any]
+       [--at-most KEY VALUE ...] [--positions REL]
 Exit 77 (ctest: skipped) when mpirun is missing."""
 import argparse
 import csv
@@ -38,16 +40,28 @@ def history(folder):
     return rows
 
 
-def check_snapshots(folder, particles):
+def check_snapshots(folder, serial, particles, tolerance):
+    """Each snapshot holds every scene index once, in scene order (the
+    serial file's layout, whoever wrote which rows), and its positions lie
+    within `tolerance` of the body's extent of the serial run's."""
     files = sorted(glob.glob(os.path.join(folder, "snap_*.h5")))
-    if len(files) < 2:
+    if len(files) < 2 or len(files) != len(glob.glob(os.path.join(serial, "snap_*.h5"))):
         sys.exit("FAIL: %s has %d snapshots" % (folder, len(files)))
+    worst = 0.0
     for name in files:
-        with h5py.File(name, "r") as f:
-            ids = np.sort(f["id"][...])
-        if len(ids) != particles or not np.array_equal(ids, np.arange(particles)):
-            sys.exit("FAIL: %s holds %d ids, not each of 0 .. %d once"
-                     % (name, len(ids), particles - 1))
+        with h5py.File(name, "r") as f, \
+                h5py.File(os.path.join(serial, os.path.basename(name)), "r") as g:
+            ids = f["id"][...]
+            if len(ids) != particles or not np.array_equal(ids, np.arange(particles)):
+                sys.exit("FAIL: %s holds %d ids, not 0 .. %d in order"
+                         % (name, len(ids), particles - 1))
+            x, y = f["position"][...], g["position"][...]
+            extent = np.max(np.ptp(y, axis=0))
+            worst = max(worst, np.max(np.abs(x - y)) / extent)
+    print("  snapshot positions: largest difference %.2e of the body's extent (limit %g)"
+          % (worst, tolerance))
+    if not worst <= tolerance:
+        sys.exit("FAIL: %s: positions differ by %.2e of the extent" % (folder, worst))
     return len(files)
 
 
@@ -70,6 +84,12 @@ def main():
     p.add_argument("--migration", choices=("required", "none", "any"), default="required",
                    help="particles must change rank (default), must not (the total "
                    "Lagrangian form keeps its reference ranks), or may")
+    p.add_argument("--at-most", nargs=2, action="append", default=[],
+                   metavar=("KEY", "VALUE"), help="a summary figure of every multi-rank "
+                   "run must not exceed VALUE (e.g. the halo a decomposition makes)")
+    p.add_argument("--positions", type=float, default=1e-5, metavar="REL",
+                   help="snapshot positions within REL of the body's extent of the serial "
+                   "run's (default 1e-5)")
     a = p.parse_args()
     mpirun = shutil.which("mpirun")
     if not mpirun:
@@ -101,7 +121,7 @@ def main():
                      % (n, s["migrated_particles"]))
         if a.migration == "required" and not s.get("migrated_particles", 0) > 0:
             sys.exit("FAIL: %d ranks: no particle changed rank (the test must see migration)" % n)
-        snapshots = check_snapshots(folder, particles)
+        snapshots = check_snapshots(folder, serial, particles, a.positions)
         print("%d ranks: %d particles in each of %d snapshots, %d migrations, %d re-cuts"
               % (n, particles, snapshots, s["migrated_particles"], s["rebalances"]))
         for key, tolerance in a.summary:
@@ -110,6 +130,10 @@ def main():
                   % (key, base[key], n, s[key], d, tolerance))
             if not d <= float(tolerance):
                 sys.exit("FAIL: %s differs by %.2e relative on %d ranks" % (key, d, n))
+        for key, limit in a.at_most:
+            print("  %s: %.9g on %d ranks (at most %s)" % (key, s[key], n, limit))
+            if not s[key] <= float(limit):
+                sys.exit("FAIL: %s is %.9g on %d ranks, above %s" % (key, s[key], n, limit))
         rows = history(folder)
         if len(rows) != len(base_history):
             sys.exit("FAIL: %d history rows on %d ranks, %d serial"

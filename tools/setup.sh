@@ -12,9 +12,11 @@ MODE=${1:-run}
 PACKAGES="build-essential cmake pkg-config ocl-icd-opencl-dev opencl-c-headers \
 pocl-opencl-icd clinfo libyaml-dev libhdf5-dev libcmocka-dev clang-format \
 python3 python3-numpy python3-h5py python3-matplotlib python3-yaml python3-scipy \
-openmpi-bin libopenmpi-dev"
+openmpi-bin libopenmpi-dev libhdf5-openmpi-dev"
 # Open MPI: `mpirun -np N build/sph run CASE` runs one case over N processes
-# (README, "Over several processes"); without it the build is serial.
+# (README, "Over several processes"); without it the build is serial. The
+# parallel HDF5 (beside the serial one, which the tools' h5py uses) lets the
+# ranks write each snapshot together.
 # The tests also open a run as ParaView does (tests/check_paraview.py), run
 # the kernels under oclgrind (tests/check_oclgrind.sh) and fuzz the case
 # reader with clang's libFuzzer (tests/fuzz_case.sh).
