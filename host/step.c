@@ -104,7 +104,6 @@ int solver_create(struct solver *s, struct sph_device *dev, const struct sph_cas
     s->graded = solver_case_graded(c);
     s->coarsest_level = solver_case_coarsest_level(c);
     s->dx = c->numerics.dx;
-    s->reduce_groups = 64;
     s->skin = SPH_GRID_SKIN;
     s->thickness_scale = c->dimension != 2                    ? 1.0
                          : c->plane == SPH_PLANE_AXISYMMETRIC ? 2.0 * M_PI /* per radian */
@@ -121,6 +120,10 @@ int solver_create(struct solver *s, struct sph_device *dev, const struct sph_cas
     solver_ghosts_setup(s, c, own);
     if (s->domain.active)
         solver_domain_size(s);
+    /* the reductions' work-groups: one per 1024 particles, at most 64 (a
+     * small scene's sums need no more, and under oclgrind each group's
+     * local-memory tree costs seconds) */
+    s->reduce_groups = (int)fmin(64.0, fmax(1.0, ceil(s->n / 1024.0)));
     const int failed = solver_create_buffers(s, c, own, error, error_size);
     scene_free(&local);
     if (failed)
