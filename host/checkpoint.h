@@ -51,7 +51,7 @@ void checkpoint_record(struct checkpoint *k, const char *name, void *data, size_
  * ranges, the ghosts' lists and the projectile. */
 void solver_checkpoint_records(struct solver *s, struct checkpoint *k, int load);
 /* Over several processes, this rank's domain: its reals' count and scene
- * indices, the slabs, the halo's lists (host/domain.c). */
+ * indices, the bisection tree, the halo's lists (host/domain.c). */
 void solver_domain_records(struct solver *s, struct checkpoint *k, int load);
 
 #endif

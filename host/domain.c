@@ -15,8 +15,10 @@
  * registry's read_across, as for mirrors) are packed on the device,
  * exchanged and unpacked into the halo slots (kernels/halo.cl).
  *
- * The rest of this file wraps the MPI calls, so that no other file needs
- * <mpi.h>; built without MPI they are the one-process versions. */
+ * The rest of this file wraps the MPI calls, so that no other file calls
+ * MPI (the parallel HDF5's header includes <mpi.h>, but output.c reaches
+ * MPI-IO through dist_hdf5_collective); built without MPI they are the
+ * one-process versions. */
 #include "domain.h"
 
 #include <math.h>
@@ -36,7 +38,10 @@
 
 static int world_rank = 0, world_size = 1, mpi_started = 0;
 #ifdef SPH_MPI
-static MPI_Op sum_then_max = MPI_OP_NULL; /* dist_sum_max */
+/* dist_sum_max: its operation, and the one element it reduces */
+#define SUM_MAX_WIDTH 64
+static MPI_Op sum_then_max = MPI_OP_NULL;
+static MPI_Datatype sum_max_vector = MPI_DATATYPE_NULL;
 #endif
 
 void dist_start(int *argc, char ***argv)
@@ -60,6 +65,8 @@ void dist_stop(void)
 #ifdef SPH_MPI
     if (sum_then_max != MPI_OP_NULL)
         MPI_Op_free(&sum_then_max);
+    if (sum_max_vector != MPI_DATATYPE_NULL)
+        MPI_Type_free(&sum_max_vector);
     if (mpi_started)
         MPI_Finalize();
 #endif
@@ -136,21 +143,25 @@ void dist_sum_ints(int *v, size_t n)
 
 void dist_or_bytes(char *v, size_t n)
 {
-    ALL_REDUCE(v, n, MPI_CHAR, MPI_BOR);
+    ALL_REDUCE(v, n, MPI_UNSIGNED_CHAR, MPI_BOR);
 }
 
 #ifdef SPH_MPI
-/* dist_sum_max's operation: the first sum_count doubles add, the rest take
- * the maximum (a NaN wins, so that a bad value is never hidden). Every rank
+/* dist_sum_max's operation on whole vectors of SUM_MAX_WIDTH doubles (one
+ * derived element each, so that MPI never hands it a piece, whose offsets
+ * would move the split): the first sum_count add, the rest take the
+ * maximum (a NaN wins, so that a bad value is never hidden). Every rank
  * reduces the same layout, so the split is one value for the whole job. */
 static int sum_count;
 static void sum_then_max_op(void *in, void *inout, int *len, MPI_Datatype *type)
 {
     (void)type;
-    const double *a = in;
-    double *b = inout;
-    for (int k = 0; k < *len; ++k)
-        b[k] = k < sum_count ? a[k] + b[k] : a[k] > b[k] || isnan(a[k]) ? a[k] : b[k];
+    for (int e = 0; e < *len; ++e) {
+        const double *a = (const double *)in + (size_t)e * SUM_MAX_WIDTH;
+        double *b = (double *)inout + (size_t)e * SUM_MAX_WIDTH;
+        for (int k = 0; k < SUM_MAX_WIDTH; ++k)
+            b[k] = k < sum_count ? a[k] + b[k] : a[k] > b[k] || isnan(a[k]) ? a[k] : b[k];
+    }
 }
 #endif
 
@@ -159,15 +170,18 @@ void dist_sum_max(double *sums, int n_sums, double *maxima, int n_maxima)
 #ifdef SPH_MPI
     if (world_size == 1)
         return;
-    double v[64];
-    if (n_sums + n_maxima > 64)
+    double v[SUM_MAX_WIDTH] = {0};
+    if (n_sums + n_maxima > SUM_MAX_WIDTH)
         abort(); /* a caller's layout, fixed at compile time */
     memcpy(v, sums, sizeof(double) * (size_t)n_sums);
     memcpy(v + n_sums, maxima, sizeof(double) * (size_t)n_maxima);
-    if (sum_then_max == MPI_OP_NULL)
+    if (sum_then_max == MPI_OP_NULL) {
         MPI_Op_create(sum_then_max_op, 1, &sum_then_max);
+        MPI_Type_contiguous(SUM_MAX_WIDTH, MPI_DOUBLE, &sum_max_vector);
+        MPI_Type_commit(&sum_max_vector);
+    }
     sum_count = n_sums;
-    MPI_Allreduce(MPI_IN_PLACE, v, n_sums + n_maxima, MPI_DOUBLE, sum_then_max, MPI_COMM_WORLD);
+    MPI_Allreduce(MPI_IN_PLACE, v, 1, sum_max_vector, sum_then_max, MPI_COMM_WORLD);
     memcpy(sums, v, sizeof(double) * (size_t)n_sums);
     memcpy(maxima, v + n_sums, sizeof(double) * (size_t)n_maxima);
 #else
@@ -347,8 +361,15 @@ static int bisect(struct domain *d, const double *xyz, const double *reach, int 
     const int node = (*next)++, left = count / 2;
     const long k = (long)n * left / count;
     long fewest = -1;
+    d->split_axis[node] = 0;
+    d->split_at[node] = share_cut(xyz, pts, n, k, 0, scratch);
     for (int a = 0; a < dim; ++a) {
+        /* an axis with no gap near the share (a body one plane thick
+         * along it) cannot split these points: its cut would be at
+         * infinity, with no halo and every point on one side */
         const double at = share_cut(xyz, pts, n, k, a, scratch);
+        if (!isfinite(at))
+            continue;
         long halo = 0;
         for (int q = 0; q < n; ++q)
             halo += fabs(xyz[3 * pts[q] + a] - at) < reach[pts[q]];
@@ -719,50 +740,54 @@ static int rebalance(struct solver *s, const struct records *r)
     return failed;
 }
 
-/* The ranks other than this one each real reaches (near[p * size + r]). */
-static char *halo_targets(const struct solver *s, const struct records *reals)
+/* The ranks other than this one real p reaches (near: one per rank). */
+static void halo_targets(const struct solver *s, const struct records *reals, int p, char *near)
 {
-    const struct domain *d = &s->domain;
-    char *near = malloc((size_t)reals->count * (size_t)d->size + 1);
-    for (int p = 0; near && p < reals->count; ++p) {
-        const unsigned char *rec = reals->data + (size_t)p * reals->bytes;
-        double x[3];
-        record_position(s, rec, x);
-        reached_by(s, x, record_flags(s, reals, rec), &near[(size_t)p * d->size]);
-        near[(size_t)p * d->size + d->rank] = 0;
-    }
-    return near;
+    const unsigned char *rec = reals->data + (size_t)p * reals->bytes;
+    double x[3];
+    record_position(s, rec, x);
+    reached_by(s, x, record_flags(s, reals, rec), near);
+    near[s->domain.rank] = 0;
 }
 
 /* Halo send lists: each real within reach of another rank's domain goes to
  * that rank (a particle may go to several), grouped by rank; *send_ids
- * holds their local ids in the same order. Received halos into `halo`. */
+ * holds their local ids in the same order (ascending within each rank's
+ * group). Received halos into `halo`. */
 static int halo_records(struct solver *s, const struct records *reals, struct records *halo,
                         int **send_ids)
 {
     struct domain *d = &s->domain;
-    char *near = halo_targets(s, reals);
-    int total = 0;
+    char *near = malloc((size_t)d->size);
+    int *at = calloc((size_t)d->size + 1, sizeof(int)), total = 0;
     memset(d->send_count, 0, sizeof(int) * (size_t)d->size);
-    for (size_t k = 0; near && k < (size_t)reals->count * (size_t)d->size; ++k)
-        if (near[k])
-            ++total, ++d->send_count[k % (size_t)d->size];
+    for (int p = 0; near && at && p < reals->count; ++p) {
+        halo_targets(s, reals, p, near);
+        for (int r = 0; r < d->size; ++r)
+            if (near[r])
+                ++total, ++d->send_count[r];
+    }
     struct records out = *reals;
     out.count = total;
     out.data = malloc((size_t)total * reals->bytes + 1);
     int *dest = calloc((size_t)total + 1, sizeof(int));
     *send_ids = malloc(sizeof(int) * (size_t)total + 1);
-    int failed = !near || !out.data || !dest || !*send_ids;
-    for (int r = 0, q = 0; r < d->size && !failed; ++r)
-        for (int p = 0; p < reals->count; ++p) {
-            if (!near[(size_t)p * d->size + r])
+    int failed = !near || !at || !out.data || !dest || !*send_ids;
+    for (int r = 1; !failed && r < d->size; ++r)
+        at[r] = at[r - 1] + d->send_count[r - 1];
+    for (int p = 0; !failed && p < reals->count; ++p) {
+        halo_targets(s, reals, p, near);
+        for (int r = 0; r < d->size; ++r) {
+            if (!near[r])
                 continue;
+            const int q = at[r]++;
             memcpy(out.data + (size_t)q * reals->bytes, reals->data + (size_t)p * reals->bytes,
                    reals->bytes);
             (*send_ids)[q] = p;
-            dest[q++] = r;
+            dest[q] = r;
         }
-    free(near);
+    }
+    free(near), free(at);
     if (failed) /* every rank still takes part in the exchange */
         out.count = 0;
     failed = send_records(d, &out, dest, halo, d->recv_count) || failed;
@@ -951,16 +976,19 @@ void solver_domain_refresh(struct solver *s, const enum field *fields, int count
  * descent ends), every leaf a rank, every axis a dimension. */
 static int valid_tree(const struct domain *d, int dim)
 {
-    for (int c = 0; c < d->size - 1; ++c) {
-        if (d->split_axis[c] < 0 || d->split_axis[c] >= dim)
-            return 0;
-        for (int side = 0; side < 2; ++side) {
+    char *seen = calloc((size_t)d->size, 1);
+    int valid = seen != NULL;
+    for (int c = 0; valid && c < d->size - 1; ++c) {
+        valid = d->split_axis[c] >= 0 && d->split_axis[c] < dim && !isnan(d->split_at[c]);
+        for (int side = 0; valid && side < 2; ++side) {
             const int next = d->child[2 * c + side];
-            if (next < -d->size || (next >= 0 && (next <= c || next >= d->size - 1)))
-                return 0;
+            valid = next >= -d->size && (next < 0 || (next > c && next < d->size - 1));
+            if (valid && next < 0) /* each rank a leaf once */
+                valid = !seen[-1 - next]++;
         }
     }
-    return 1;
+    free(seen);
+    return valid;
 }
 
 void solver_domain_records(struct solver *s, struct checkpoint *k, int load)

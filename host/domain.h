@@ -55,8 +55,8 @@ int dist_hdf5_collective(hid_t file_access, hid_t transfer);
 #endif
 
 /* The spatial domains: boxes, one per rank, the leaves of an orthogonal
- * recursive bisection (each cut across the longest side of its particles'
- * bounding box, at the share of the ranks on either side), cut again when
+ * recursive bisection (each cut at the share of the ranks on either side,
+ * across the axis whose cut the fewest particles reach), cut again when
  * the shares drift apart (DOMAIN_IMBALANCE). Ghost slots after the real
  * particles hold the halo: the particles of other ranks within a support
  * (plus the grid's skin) of this rank's box, refreshed before each
@@ -79,7 +79,7 @@ struct domain {
     int send_total;
     long migrated;          /* particles that changed rank, all ranks, whole run */
     double halo_bytes_sent; /* by this rank's halo refreshes, whole run */
-    int rebalances;         /* times the slabs were cut again */
+    int rebalances;         /* times the domains were cut again */
     cl_mem send_ids, staging_out, staging_in;
     size_t staging_words;         /* of each staging buffer, device and host */
     void *host_out, *host_in;     /* the exchange's host side */

@@ -172,9 +172,6 @@ static int read_column(struct solver *s, enum field f, const int *row_of_slot,
     for (size_t k = 0; k < n; ++k)
         if (row_of_slot[k] >= 0)
             unpack_element(s, kind, raw + k * element, col, row_of_slot[k]);
-    if (f == FIELD_ID) /* the scene index, not a rank's own numbering */
-        for (int row = 0; row < o->n; ++row)
-            ((int *)col->data)[row] = o->id ? o->id[row] : row;
     free(raw);
     /* gathered over several processes: each rank filled its own rows and
      * the others are zero, so the sum is every rank's column, exactly */
@@ -183,6 +180,9 @@ static int read_column(struct solver *s, enum field f, const int *row_of_slot,
         dist_sum_ints(col->data, values);
     else if (s->domain.active && !o->distributed)
         dist_sum(col->data, values);
+    if (f == FIELD_ID) /* the scene index, not a rank's own numbering */
+        for (int row = 0; row < o->n; ++row)
+            ((int *)col->data)[row] = o->id ? o->id[row] : row;
     return 0;
 }
 

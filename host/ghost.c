@@ -17,7 +17,7 @@
 
 /* Graded lattices: a particle's pairs reach 1.5 of its own supports (the
  * mean smoothing length with a coarser neighbour); every pair across a
- * plane (or a slab boundary, host/domain.c) then has both images, and stays
+ * plane (or a domain boundary, host/domain.c) then has both images, and stays
  * equal and opposite. */
 double solver_reach_scale(const struct solver *s, int flags)
 {

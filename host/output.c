@@ -288,11 +288,8 @@ struct rows {
  * memory space. */
 static hid_t select_rows(hid_t file_space, const struct rows *r, hsize_t cols)
 {
-    if (!r->id) {
-        if (!r->writes)
-            H5Sselect_none(file_space);
+    if (!r->id)
         return H5S_ALL;
-    }
     const hsize_t mem_dims[2] = {r->count > 0 ? (hsize_t)r->count : 1, cols};
     hid_t memory = H5Screate_simple(cols > 1 ? 2 : 1, mem_dims, NULL);
     if (r->count == 0) {
@@ -318,7 +315,7 @@ static int write_rows(hid_t where, const char *name, hid_t type, const void *dat
     hid_t space = H5Screate_simple(cols > 1 ? 2 : 1, dims, NULL);
     hid_t set = H5Dcreate2(where, name, type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
     herr_t status = set >= 0 ? 0 : -1;
-    if (set >= 0 && (r->writes || r->transfer != H5P_DEFAULT)) {
+    if (set >= 0 && r->writes) {
         hid_t memory = select_rows(space, r, cols);
         status =
             H5Dwrite(set, type, memory, memory == H5S_ALL ? H5S_ALL : space, r->transfer, data);
@@ -499,9 +496,15 @@ static int write_snapshot_file(const struct output *o, const char *path,
 {
     hid_t access, transfer;
     int bad = snapshot_properties(f, &access, &transfer);
+    /* every rank goes on to the collective calls, or none */
+    if (f->distributed ? dist_any(bad) : bad) {
+        H5Pclose(access);
+        if (transfer != H5P_DEFAULT)
+            H5Pclose(transfer);
+        return 1;
+    }
     hid_t file = H5Fcreate(path, H5F_ACC_TRUNC, H5P_DEFAULT, access);
     H5Pclose(access);
-    /* every rank goes on to the collective calls, or none */
     if (f->distributed ? dist_any(file < 0) : file < 0) {
         if (file >= 0)
             H5Fclose(file);

@@ -75,7 +75,7 @@ struct run_summary {
     size_t bytes_per_particle;  /* of this rank's slots (rank 0 over several processes) */
     int processes;              /* MPI ranks (1: the serial run) */
     long migrated_particles;    /* over several processes: changes of rank, whole run */
-    int rebalances;             /* times the slabs were cut again */
+    int rebalances;             /* times the domains were cut again */
     double halo_particles;      /* per rank, mean over the ranks, at the end */
     double halo_bytes_per_step; /* sent by each rank's halo refreshes, mean */
     int has_probe;

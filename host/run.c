@@ -427,20 +427,21 @@ static int write_checkpoint(struct loop *L)
     return failed;
 }
 
-/* Over several processes every rank writes its file at the same step:
- * the simulated-time trigger is the same everywhere, the wall-clock one is
- * taken when any rank's is due. */
-static int checkpoint_due(struct loop *L)
+/* Whether this rank's checkpoint is due. Over several processes every rank
+ * writes its file at the same step: the simulated-time trigger is the same
+ * everywhere, the wall-clock one is taken when any rank's is due (the
+ * loop's agreement, below). */
+static int checkpoint_due(const struct loop *L)
 {
     const struct case_output *o = &L->c->output;
-    int due = 0;
-    if (L->t >= L->next_checkpoint * (1 - 1e-9)) {
-        while (L->next_checkpoint <= L->t * (1 + 1e-9))
-            L->next_checkpoint += o->checkpoint_interval;
-        due = 1;
-    }
-    due |= o->checkpoint_wall_interval > 0 && wall_seconds() >= L->next_checkpoint_wall;
-    return dist_any(due);
+    return L->t >= L->next_checkpoint * (1 - 1e-9) ||
+           (o->checkpoint_wall_interval > 0 && wall_seconds() >= L->next_checkpoint_wall);
+}
+
+static void next_checkpoint_time(struct loop *L)
+{
+    while (L->next_checkpoint <= L->t * (1 + 1e-9))
+        L->next_checkpoint += L->c->output.checkpoint_interval;
 }
 
 /* SIGINT / SIGTERM: the loop finishes its step, writes a checkpoint, a
@@ -535,10 +536,16 @@ static int time_loop(struct loop *L)
         }
         for (int k = 0; L->step == L->raise_at_step && k < L->raise_count; ++k)
             raise(SIGINT); /* SPH_RAISE_AT_STEP: tests' Ctrl-C, pressed twice or more */
-        if (dist_any(interrupt_signal != 0)) /* every rank stops at the same step */
+        /* the loop's flags in one collective: every rank stops, or writes
+         * its checkpoint, at the same step */
+        double agreed[2] = {interrupt_signal != 0, checkpoint_due(L)};
+        dist_max(agreed, 2);
+        if (agreed[0])
             return stop_interrupted(L);
-        if (checkpoint_due(L))
+        if (agreed[1]) {
+            next_checkpoint_time(L);
             write_checkpoint(L);
+        }
         progress(L, 0);
     }
     if (device_failed(L))

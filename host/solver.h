@@ -187,7 +187,7 @@ struct solver {
     int n_scene;  /* particles of the whole case (n_real on one process) */
     int capacity; /* slots in every field buffer */
     struct ghosts ghosts;
-    struct domain domain;        /* MPI: this rank's slab and halo (host/domain.c) */
+    struct domain domain;        /* MPI: this rank's box and halo (host/domain.c) */
     int total_lagrangian;        /* numerics.formulation; the grid is then sorted once */
     int graded;                  /* some body has a graded lattice (SPH_GRADED) */
     int coarsest_level;          /* of the graded bodies (solver_case_coarsest_level) */
@@ -350,7 +350,7 @@ void solver_compact(struct solver *s);
 double solver_reach_scale(const struct solver *s, int flags);
 
 /* One case over many processes (host/domain.c). solver_domain_setup cuts
- * the slabs and selects this rank's particles of the scene into `local`
+ * the domains and selects this rank's particles of the scene into `local`
  * (they come first, then those of its initial halo); solver_domain_size
  * makes room after the mirrors' set-up; solver_domain_exchange migrates
  * particles and rebuilds the halo at a re-sort; solver_domain_refresh
