@@ -39,7 +39,7 @@ static void write_state(struct solver *s, const double *values)
 void solver_projectile_sums(struct solver *s, double sum[SPH_CONTACT_SLOTS])
 {
     const size_t count = (size_t)s->reduce_groups * SPH_CONTACT_SLOTS;
-    double v[64 * SPH_CONTACT_SLOTS] = {0};
+    double v[REDUCE_MAX_GROUPS * SPH_CONTACT_SLOTS] = {0};
     solver_read_reals(s, s->projectile.contact_partials, count, v);
     memset(sum, 0, sizeof(double) * SPH_CONTACT_SLOTS);
     for (size_t k = 0; k < count; ++k)
@@ -48,7 +48,7 @@ void solver_projectile_sums(struct solver *s, double sum[SPH_CONTACT_SLOTS])
 
 void solver_projectile_share(struct solver *s, const double sum[SPH_CONTACT_SLOTS])
 {
-    double v[64 * SPH_CONTACT_SLOTS] = {0};
+    double v[REDUCE_MAX_GROUPS * SPH_CONTACT_SLOTS] = {0};
     memcpy(v, sum, sizeof(double) * SPH_CONTACT_SLOTS);
     write_reals(s, s->projectile.contact_partials, v, (size_t)s->reduce_groups * SPH_CONTACT_SLOTS);
 }

@@ -14,6 +14,9 @@
 /* Work-group size of the reduction kernels (REDUCE_WG in kernels/common.cl),
  * checked against the device at device_open. */
 #define REDUCE_GROUP 64
+/* Work-groups of a reduction launch at most (solver.reduce_groups): the
+ * host's arrays of per-group partials are sized for this many. */
+#define REDUCE_MAX_GROUPS 64
 
 struct sph_device {
     cl_platform_id platform;

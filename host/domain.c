@@ -361,13 +361,13 @@ static int bisect(struct domain *d, const double *xyz, const double *reach, int 
     const int node = (*next)++, left = count / 2;
     const long k = (long)n * left / count;
     long fewest = -1;
-    d->split_axis[node] = 0;
-    d->split_at[node] = share_cut(xyz, pts, n, k, 0, scratch);
     for (int a = 0; a < dim; ++a) {
+        const double at = share_cut(xyz, pts, n, k, a, scratch);
+        if (a == 0) /* kept only when no axis can split these points */
+            d->split_axis[node] = 0, d->split_at[node] = at;
         /* an axis with no gap near the share (a body one plane thick
          * along it) cannot split these points: its cut would be at
          * infinity, with no halo and every point on one side */
-        const double at = share_cut(xyz, pts, n, k, a, scratch);
         if (!isfinite(at))
             continue;
         long halo = 0;
@@ -1055,7 +1055,7 @@ void solver_domain_reduce(const struct solver *s, struct reduction *r, double *c
      * its negative: one maximum takes all four */
     const double bad = r->bad_id >= 0 && r->bad_id < s->n_real ? d->global_id[r->bad_id] : HUGE_VAL;
     double maxima[4] = {r->max_signal, r->max_speed, r->max_drift_speed, -bad};
-    /* one Allreduce per step */
+    /* one Allreduce for the step's figures */
     dist_sum_max(sums, contact ? 15 + SPH_CONTACT_SLOTS : 15, maxima, 4);
     for (int k = 0; contact && k < SPH_CONTACT_SLOTS; ++k)
         contact[k] = sums[15 + k];

@@ -120,10 +120,11 @@ int solver_create(struct solver *s, struct sph_device *dev, const struct sph_cas
     solver_ghosts_setup(s, c, own);
     if (s->domain.active)
         solver_domain_size(s);
-    /* the reductions' work-groups: one per 1024 particles, at most 64 (a
-     * small scene's sums need no more, and under oclgrind each group's
-     * local-memory tree costs seconds) */
-    s->reduce_groups = (int)fmin(64.0, fmax(1.0, ceil(s->n / 1024.0)));
+    /* the reductions' work-groups: one per 1024 particles, at most
+     * REDUCE_MAX_GROUPS (a small scene's sums need no more; under oclgrind
+     * each group's local-memory tree is interpreted, and 64 of them took
+     * seconds per launch on a 21-particle scene) */
+    s->reduce_groups = (int)fmin(REDUCE_MAX_GROUPS, fmax(1.0, ceil(s->n / 1024.0)));
     const int failed = solver_create_buffers(s, c, own, error, error_size);
     scene_free(&local);
     if (failed)
@@ -153,7 +154,7 @@ static void read_bounds(struct solver *s, double lo[3], double hi[3])
     SET_ARGS(s, s->k.bounds, MEM("partials", s->bounds_partials), INT("n", s->n));
     solver_launch(s, s->k.bounds, (size_t)s->reduce_groups * REDUCE_GROUP, REDUCE_GROUP);
     const size_t count = 6 * (size_t)s->reduce_groups;
-    double values[6 * 64] = {0};
+    double values[6 * REDUCE_MAX_GROUPS] = {0};
     solver_read_reals(s, s->bounds_partials, count, values);
     for (int a = 0; a < 3; ++a) {
         lo[a] = HUGE_VAL;
@@ -422,7 +423,7 @@ static void reduce(struct solver *s, const double load[3], struct reduction *out
     SET_ARGS(s, s->k.reduce, real4_value(s, &a_load, "load_force", load),
              MEM("partials", s->partials), INT("n", s->n));
     solver_launch(s, s->k.reduce, (size_t)s->reduce_groups * REDUCE_GROUP, REDUCE_GROUP);
-    double values[64 * SPH_RED_SLOTS] = {0}, sums[SPH_CONTACT_SLOTS];
+    double values[REDUCE_MAX_GROUPS * SPH_RED_SLOTS] = {0}, sums[SPH_CONTACT_SLOTS];
     solver_read_reals(s, s->partials, (size_t)s->reduce_groups * SPH_RED_SLOTS, values);
     combine_partials(s, values, out);
     contact = contact && s->domain.active;
@@ -444,7 +445,7 @@ void solver_health(struct solver *s, struct health_reading *out)
     SET_ARGS(s, s->k.health, real_value(s, &a_dx, "dx", s->dx), MEM("partials", s->partials),
              INT("n", s->n));
     solver_launch(s, s->k.health, (size_t)s->reduce_groups * REDUCE_GROUP, REDUCE_GROUP);
-    double v[64 * SPH_HEALTH_SLOTS] = {0};
+    double v[REDUCE_MAX_GROUPS * SPH_HEALTH_SLOTS] = {0};
     solver_read_reals(s, s->partials, (size_t)s->reduce_groups * SPH_HEALTH_SLOTS, v);
     double min_distance = HUGE_VAL, nb_min = HUGE_VAL, nb_max = 0, sums[SPH_HEALTH_SLOTS] = {0};
     for (int g = 0; g < s->reduce_groups; ++g) {
