@@ -985,9 +985,10 @@ static int check_numerics(struct ctx *x, const struct frame *fr, void *base)
     if ((n->av_scheme == SPH_AV_SWITCH || n->av_scheme == SPH_AV_CULLEN_DEHNEN) &&
         n->av_alpha_min > n->av_alpha)
         return fail(x, line_of(fr, "artificial_viscosity"), subkey(x, "artificial_viscosity"),
-                    "expected alpha_min (%g) at most alpha (%g): with scheme switch alpha is "
-                    "the largest value the switch reaches",
-                    n->av_alpha_min, n->av_alpha);
+                    "expected alpha_min (%g) at most alpha (%g): with scheme %s alpha is the "
+                    "largest value a particle's alpha reaches (switch is the default scheme); "
+                    "for a constant viscosity write scheme: monaghan",
+                    n->av_alpha_min, n->av_alpha, av_scheme_names[n->av_scheme]);
     if (n->total_lagrangian && n->as_epsilon > 0)
         return fail(x, line_of(fr, "artificial_stress"), subkey(x, "artificial_stress"),
                     "expected epsilon 0 with formulation total_lagrangian (it has no tensile "
@@ -1277,9 +1278,12 @@ static const struct schema symmetry_schema =
     SCHEMA(symmetry_fields, struct case_symmetry, check_symmetry);
 
 static const struct field viscosity_fields[] = {
-    NUMBER("alpha", struct case_numerics, av_alpha, 0, R_NONNEG, 0, 0, 0.1, NULL),
-    NUMBER("beta", struct case_numerics, av_beta, 0, R_NONNEG, 0, 0, 0.1, NULL),
-    ENUM("scheme", struct case_numerics, av_scheme, 0, SPH_AV_MONAGHAN, av_scheme_names, NULL),
+    /* the one numerics block's shock capturing (docs/shock_capturing.md,
+     * "One block"): the switch (Morris & Monaghan 1997) between 1.5 (the
+     * 4340 bars' constant, thesis 3.4.2) and its floor 0.1 (the beams') */
+    NUMBER("alpha", struct case_numerics, av_alpha, 0, R_NONNEG, 0, 0, 1.5, NULL),
+    NUMBER("beta", struct case_numerics, av_beta, 0, R_NONNEG, 0, 0, 1.5, NULL),
+    ENUM("scheme", struct case_numerics, av_scheme, 0, SPH_AV_SWITCH, av_scheme_names, NULL),
     NUMBER("alpha_min", struct case_numerics, av_alpha_min, 0, R_NONNEG, 0, 0, 0.1, NULL),
 };
 static const struct schema viscosity_schema = SCHEMA(viscosity_fields, struct case_numerics, NULL);

@@ -29,21 +29,58 @@ static double box_particles(const struct case_box *box, int dim, double dx, int 
     return total;
 }
 
+/* Which face of the box along axis a lies on a plane normal to that axis
+ * at `position`: -1 the lower, +1 the upper, 0 neither. */
+static int face_on_plane(const struct case_box *box, int a, double position)
+{
+    const double tolerance = 1e-9 * (box->max[a] - box->min[a]);
+    if (fabs(box->min[a] - position) <= tolerance)
+        return -1;
+    if (fabs(box->max[a] - position) <= tolerance)
+        return 1;
+    return 0;
+}
+
+/* The face of the box along axis a that lies on a symmetry plane or on a
+ * rigid wall normal to that axis (-1 lower, +1 upper, 0 none). */
+static int anchored_face(const struct sph_case *c, const struct case_box *box, int a)
+{
+    for (int k = 0; k < c->symmetry_count; ++k)
+        if (c->symmetry[k].axis == a) {
+            const int face = face_on_plane(box, a, c->symmetry[k].position);
+            if (face)
+                return face;
+        }
+    for (int w = 0; w < c->wall_count; ++w) {
+        const struct case_wall *wall = &c->walls[w];
+        if (fabs(fabs(wall->normal[a]) - 1) > 1e-9)
+            continue;
+        const int face = face_on_plane(box, a, wall->point[a]);
+        if (face)
+            return face;
+    }
+    return 0;
+}
+
 /* First lattice coordinate along axis a: centred in the box, or half a
- * spacing from a face that lies on a symmetry plane, so that the lattice
- * and its mirror image continue each other across the plane. */
+ * spacing from a face that lies on a symmetry plane (so that the lattice
+ * and its mirror image continue each other across the plane) or on a rigid
+ * wall (so that no particle starts inside the wall's contact spring, which
+ * acts within dx/2 of the plane, kernels/integrate.cl: centred, a box whose
+ * length is not a whole number of spacings put its end layer up to dx/2
+ * into it, and a Taylor bar at dx = 0.75 mm started with that layer
+ * thrown off the wall at 670 m/s). */
 static double lattice_start(const struct sph_case *c, const struct case_box *box, int a, int count)
 {
-    const double dx = c->numerics.dx, tolerance = 1e-9 * (box->max[a] - box->min[a]);
-    for (int k = 0; k < c->symmetry_count; ++k) {
-        if (c->symmetry[k].axis != a)
-            continue;
-        if (fabs(box->min[a] - c->symmetry[k].position) <= tolerance)
-            return box->min[a] + 0.5 * dx;
-        if (fabs(box->max[a] - c->symmetry[k].position) <= tolerance)
-            return box->max[a] - 0.5 * dx - (count - 1) * dx;
+    const double dx = c->numerics.dx;
+    switch (anchored_face(c, box, a)) {
+    case -1:
+        return box->min[a] + 0.5 * dx;
+    case 1:
+        return box->max[a] - 0.5 * dx - (count - 1) * dx;
+    default:
+        return 0.5 * (box->min[a] + box->max[a]) - 0.5 * (count - 1) * dx;
     }
-    return 0.5 * (box->min[a] + box->max[a]) - 0.5 * (count - 1) * dx;
 }
 
 static int inside(const struct case_box *box, const double *x, int dim)

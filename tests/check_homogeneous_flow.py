@@ -76,7 +76,7 @@ numerics:
   dx: {dx}
   formulation: {formulation}
   h_over_dx: 1.2
-  artificial_viscosity: {{alpha: 0, beta: 0}}
+  artificial_viscosity: {{scheme: monaghan, alpha: 0, beta: 0}}
   xsph: 0
   csph: true
   end_time: {t}

@@ -104,7 +104,9 @@ static void test_beam_loads(void **state)
     assert_int_equal(n->kernel, SPH_KERNEL_WENDLAND_C2);
     assert_string_equal(case_kernel_name(n->kernel), "wendland_c2");
     assert_true(n->h_over_dx == 1.2);
-    assert_true(n->av_alpha == 0.1 && n->av_beta == 0.1);
+    /* the one numerics block (the case gives no viscosity) */
+    assert_int_equal(n->av_scheme, SPH_AV_SWITCH);
+    assert_true(n->av_alpha == 1.5 && n->av_beta == 1.5 && n->av_alpha_min == 0.1);
     assert_true(n->as_epsilon == 0.5);
     assert_int_equal(n->as_exponent, 4);
     assert_true(n->xsph_epsilon == 0.5);
@@ -166,7 +168,10 @@ static void test_defaults(void **state)
     assert_int_equal(c.group_count, 0);
     assert_int_equal(c.numerics.kernel, SPH_KERNEL_WENDLAND_C2);
     assert_true(c.numerics.h_over_dx == 1.2);
-    assert_true(c.numerics.av_alpha == 0.1 && c.numerics.av_beta == 0.1);
+    assert_int_equal(c.numerics.av_scheme, SPH_AV_SWITCH);
+    assert_true(c.numerics.av_alpha == 1.5 && c.numerics.av_beta == 1.5);
+    assert_true(c.numerics.av_alpha_min == 0.1);
+    assert_true(c.numerics.cfl == 0.3);
     assert_true(c.numerics.as_epsilon == 0);
     assert_int_equal(c.numerics.as_exponent, 4);
     assert_true(c.numerics.xsph_epsilon == 0);
@@ -492,7 +497,7 @@ static void test_set_overrides(void **state)
     assert_true(c.bodies[0].box.max[0] == 0.2 && c.bodies[0].box.max[1] == 0.005);
     assert_true(c.bodies[0].box.min[0] == 0.0); /* untouched */
     assert_true(c.numerics.damping == 100);
-    assert_true(c.numerics.av_alpha == 0.5 && c.numerics.av_beta == 0.1);
+    assert_true(c.numerics.av_alpha == 0.5 && c.numerics.av_beta == 1.5);
     assert_int_equal(c.groups[0].load.law, SPH_LOAD_LINEAR_RAMP);
     assert_int_equal(c.bodies[1].fixed, 0);
     assert_true(c.output.history_interval == 1e-5);
