@@ -68,7 +68,7 @@ const struct field_info field_table[FIELD_COUNT] = {
     [FIELD_ACCELERATION] = {"acceleration", "acceleration", ELEM_VEC, 0, ALL, 0, MIRROR_NONE, NULL},
     [FIELD_ENERGY_RATE] = {"energy_rate", "energy_rate", ELEM_REAL, 0, ALL, 0, MIRROR_NONE, NULL},
     [FIELD_VISCOUS_HEATING] = {"artificial_viscosity_heating", "viscous_heating", ELEM_REAL, 0, ALL,
-                               0, MIRROR_NONE, NULL},
+                               0, MIRROR_NONE, "W/kg"},
     [FIELD_HOURGLASS_POWER] = {"hourglass_power", "hourglass_power", ELEM_REAL, 0, TL, 0,
                                MIRROR_NONE, NULL},
     [FIELD_XSPH_VELOCITY] = {"xsph_velocity", "xsph_velocity", ELEM_VEC, 0, ALL, ALL,
