@@ -144,22 +144,23 @@ def main():
     part = cumulative[-1] / norm
     print("whole run              " + " ".join(f"{v:9.4f}" for v in part) + f" {part.sum():9.4f}")
 
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plot(args, summary, t_hist, cumulative / norm, names, bool(ke_ref))
+
+
+def plot(args, summary, t_hist, fractions, names, of_energy):
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    from plot_run import plt, save_figure, unit_for  # the run plots' units and style
+
     fig, ax = plt.subplots(figsize=(8, 4))
-    scale = 1e9 if t_hist[-1] < 1e-5 else 1e6
-    ax.stackplot(t_hist * scale, (cumulative / norm).T, labels=names)
-    ax.set_xlabel("time (ns)" if scale == 1e9 else "time (us)")
-    ax.set_ylabel("artificial viscosity work / KE0" if ke_ref else "share of the work")
+    scale, unit = unit_for(t_hist[-1] or 1, "s")
+    ax.stackplot(t_hist * scale, fractions.T, labels=names)
+    ax.set_xlabel(f"time ({unit})")
+    ax.set_ylabel("artificial viscosity work / KE0" if of_energy else "share of the work")
     ax.set_title(f"{summary.get('case', '')}: where the artificial viscosity's work goes "
                  "(distance from the sphere's surface)", fontsize=9)
     ax.legend(loc="upper left", fontsize=8)
     ax.grid(alpha=0.3)
-    out = args.out or os.path.join(args.run, "av_work_split.png")
-    fig.tight_layout()
-    fig.savefig(out, dpi=110)
-    print(out)
+    save_figure(fig, args.out or os.path.join(args.run, "av_work_split.png"))
 
 
 if __name__ == "__main__":

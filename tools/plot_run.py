@@ -47,6 +47,13 @@ def unit_for(largest, base):
     return 1e9, "n" + base
 
 
+def save_figure(fig, out):
+    """Writes the figure as a PNG and prints its path (every tool's last line)."""
+    fig.tight_layout()
+    fig.savefig(out, dpi=110)
+    print(out)
+
+
 def plot_probe(ax, h, summary, t, probe):
     values = h[probe]
     scale, unit = unit_for(max(abs(v) for v in values) or 1, "m")
@@ -117,10 +124,7 @@ def main():
         ax.grid(alpha=0.3)
     axes[-1].set_xlabel(f"time ({t_unit})")
     fig.suptitle(f"{summary.get('case', '')}: {summary.get('status', '')}")
-    out = args.out or os.path.join(args.run, "history.png")
-    fig.tight_layout()
-    fig.savefig(out, dpi=110)
-    print(out)
+    save_figure(fig, args.out or os.path.join(args.run, "history.png"))
 
 
 if __name__ == "__main__":
