@@ -50,7 +50,7 @@ def snapshot_shares(path, edges, diameter):
     with h5py.File(path, "r") as f:
         if "artificial_viscosity_heating" not in f:
             sys.exit(f"av_work_split: {path} has no artificial_viscosity_heating "
-                     "(written since session 26; rerun the case)")
+                     "(runs from before it was written lack it; rerun the case)")
         if "projectile_centre_m" not in f.attrs:
             sys.exit(f"av_work_split: {path} has no projectile: this tool splits by distance "
                      "from a projectile's surface")

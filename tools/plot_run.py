@@ -48,7 +48,7 @@ def unit_for(largest, base):
 
 
 def save_figure(fig, out):
-    """Writes the figure as a PNG and prints its path (every tool's last line)."""
+    """Writes the figure as a PNG and prints its path as the last line."""
     fig.tight_layout()
     fig.savefig(out, dpi=110)
     print(out)
