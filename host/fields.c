@@ -67,9 +67,10 @@ const struct field_info field_table[FIELD_COUNT] = {
                               MIRROR_NONE, NULL},
     [FIELD_ACCELERATION] = {"acceleration", "acceleration", ELEM_VEC, 0, ALL, 0, MIRROR_NONE, NULL},
     [FIELD_ENERGY_RATE] = {"energy_rate", "energy_rate", ELEM_REAL, 0, ALL, 0, MIRROR_NONE, NULL},
-    /* rewritten every step, but kept as state (sorted, checkpointed) so
-     * that a snapshot after a resume or a re-sort writes the last step's
-     * values for every particle (tools/av_work_split.py reads it) */
+    /* pass 2 rewrites it every step; kept as state (sorted, checkpointed)
+     * because snapshots write only state: a snapshot a resumed run writes
+     * before its first step then holds the interrupted step's values, not
+     * zeros (tools/av_work_split.py reads it) */
     [FIELD_VISCOUS_HEATING] = {"artificial_viscosity_heating", "viscous_heating", ELEM_REAL, 1, ALL,
                                0, MIRROR_NONE, "W/kg"},
     [FIELD_HOURGLASS_POWER] = {"hourglass_power", "hourglass_power", ELEM_REAL, 0, TL, 0,

@@ -12,8 +12,13 @@ as fine in time as the snapshots are: take snapshot_interval a few per cent
 of the run or less. Writes RUN/av_work_split.csv (cumulative work per band
 against time, J) and a PNG of the work per band against time.
 
+It also integrates the snapshots' heating in time and prints it over the
+ledger's work for the same span (1 where the field is the power the ledger
+integrates and the snapshots follow it); --check TOL makes that an exit
+status.
+
 usage: tools/av_work_split.py RUN_FOLDER [--bands 0.25 1 4] [--windows T1 T2 ...]
-                              [--out FILE.png]
+                              [--out FILE.png] [--check TOL]
 """
 import argparse
 import bisect
@@ -24,6 +29,8 @@ import os
 import sys
 
 import numpy as np
+
+GHOST_FLAG = 32  # SPH_FLAG_GHOST, include/sph_shared.h
 
 try:
     import h5py
@@ -46,7 +53,8 @@ def read_history(folder):
 
 
 def snapshot_shares(path, edges, diameter):
-    """(time, shares per band) of one snapshot's artificial-viscosity power."""
+    """(time, shares per band, total) of one snapshot's artificial-viscosity
+    power (the total in W per radian or per metre in 2-D, as the masses)."""
     with h5py.File(path, "r") as f:
         if "artificial_viscosity_heating" not in f:
             sys.exit(f"av_work_split: {path} has no artificial_viscosity_heating "
@@ -56,14 +64,43 @@ def snapshot_shares(path, edges, diameter):
                      "from a projectile's surface")
         t = float(f.attrs["time_s"][0])
         centre = np.asarray(f.attrs["projectile_centre_m"], dtype=float)
-        pos = f["position"][:]
-        power = f["mass"][:] * f["artificial_viscosity_heating"][:]
+        own = (f["flags"][:] & GHOST_FLAG) == 0
+        pos = f["position"][:][own]
+        power = (f["mass"][:] * f["artificial_viscosity_heating"][:])[own]
     dim = pos.shape[1]
     gap = np.linalg.norm(pos - centre[:dim], axis=1) - diameter / 2
     band = np.searchsorted(edges, np.maximum(gap, 0) / diameter, side="right") - 1
     shares = np.bincount(band, weights=power, minlength=len(edges))[: len(edges)]
     total = shares.sum()
-    return t, (shares / total if total > 0 else None)
+    return t, (shares / total if total > 0 else None), total
+
+
+def read_case_keys(folder):
+    """The projectile's diameter (m) and the factor from the snapshots' masses
+    to the ledger's (2 pi axisymmetric, the thickness in plane 2-D, else 1:
+    host/step.c, thickness_scale)."""
+    keys = {}
+    with open(os.path.join(folder, "case.resolved.yaml")) as f:
+        for line in f:
+            key, _, value = line.split("#")[0].partition(":")
+            if value.strip() and key.strip() in ("dimension", "plane", "thickness", "diameter"):
+                keys.setdefault(key.strip(), value.strip().strip('"'))
+    diameter = float(keys["diameter"])
+    if keys.get("dimension") != "2":
+        return diameter, 1.0
+    return diameter, 2 * np.pi if keys.get("plane") == "axisymmetric" \
+        else float(keys.get("thickness", 1))
+
+
+def snapshot_integral(snaps, scale, t_hist, w_hist):
+    """The snapshots' heating integrated in time (trapezoids) over the
+    ledger's work over the same span: 1 where the field is the power the
+    ledger integrates and the snapshots are dense enough to follow it."""
+    times = np.array([s[0] for s in snaps])
+    power = scale * np.array([s[2] for s in snaps])
+    integral = float(np.sum(0.5 * (power[1:] + power[:-1]) * np.diff(times)))
+    ledger = float(np.interp(times[-1], t_hist, w_hist) - np.interp(times[0], t_hist, w_hist))
+    return integral / ledger if ledger > 0 else float("nan")
 
 
 def split(t_hist, w_hist, snaps, bands):
@@ -91,22 +128,24 @@ def main():
                     help="times (s) that split the run into windows for the table (default: "
                          "t(P_max) and the end)")
     ap.add_argument("--out", help="PNG path (default RUN/av_work_split.png)")
+    ap.add_argument("--check", type=float, metavar="TOL",
+                    help="exit 1 unless the snapshots' heating integrated in time is within TOL "
+                         "(relative) of the ledger's work over the same span")
     args = ap.parse_args()
     if sorted(args.bands) != args.bands or args.bands[0] <= 0:
         sys.exit("av_work_split: --bands must be positive and increasing")
     try:
         with open(os.path.join(args.run, "summary.json")) as f:
             summary = json.load(f)
-        with open(os.path.join(args.run, "case.resolved.yaml")) as f:
-            diameter = next(float(line.split(":")[1].split("#")[0]) for line in f
-                            if line.strip().startswith("diameter:"))
-    except (OSError, ValueError, StopIteration) as e:
+        diameter, scale = read_case_keys(args.run)
+    except (OSError, ValueError, KeyError) as e:
         sys.exit(f"av_work_split: {args.run}: no summary.json or no projectile diameter in "
                  f"case.resolved.yaml ({e})")
     edges = np.array([0.0] + args.bands)
     t_hist, w_hist = read_history(args.run)
     snaps = [snapshot_shares(p, edges, diameter)
              for p in sorted(glob.glob(os.path.join(args.run, "snap_*.h5")))]
+    ratio = snapshot_integral(snaps, scale, t_hist, w_hist)
     snaps = [s for s in snaps if s[1] is not None]
     if len(snaps) < 2:
         sys.exit(f"av_work_split: {args.run} has fewer than two snapshots with heating")
@@ -133,7 +172,7 @@ def main():
     edges_t = [0.0] + sorted(w for w in windows if 0 < w < t_hist[-1]) + [t_hist[-1]]
     norm = ke_ref or total
     label = "of the ledger's reference energy" if ke_ref else "of the total"
-    print(f"{args.run}: artificial viscosity work {total:.4g} J ({fraction:.3f} {label}); "
+    print(f"{args.run}: artificial viscosity work {total:.4g} J ({norm and total / norm:.3f} {label}); "
           f"{len(snaps)} snapshots with heating; the table's fractions are {label}")
     print("window (s)            " + " ".join(f"{n:>9}" for n in names) + "     total")
     for a, b in zip(edges_t[:-1], edges_t[1:]):
@@ -144,7 +183,12 @@ def main():
     part = cumulative[-1] / norm
     print("whole run              " + " ".join(f"{v:9.4f}" for v in part) + f" {part.sum():9.4f}")
 
+    print(f"the snapshots' heating integrated in time: {ratio:.4f} of the ledger's work over "
+          "the same span")
     plot(args, summary, t_hist, cumulative / norm, names, bool(ke_ref))
+    if args.check is not None and not abs(ratio - 1) <= args.check:
+        sys.exit(f"av_work_split: the snapshots' heating gives {ratio:.4f} of the ledger's work, "
+                 f"not within {args.check} of 1")
 
 
 def plot(args, summary, t_hist, fractions, names, of_energy):
