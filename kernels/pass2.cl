@@ -186,9 +186,10 @@ struct pass2_lanes_i {
  * mirror-symmetric |r_j| makes the axial forces of i on the ghost of k and
  * of k on the ghost of i cancel, which conserves the axial momentum. The
  * first ring's axial force keeps an error there (a plane wave along the
- * axis: behind the front the first ring moves at 10% of the impact speed
- * where the others are at rest; with the sign in the axial row too, 2%,
- * but the momentum of an axisymmetric shot then drifts by 1.1% at d/dx 8). */
+ * axis: behind the front the first ring moves at 12-13% of the impact
+ * speed where the others are at rest; with the sign in the axial row too,
+ * 2%, but the momentum of an axisymmetric shot then drifts by 1.1% at d/dx
+ * 8: docs/results/penetration_session27/axis_plane_wave.yaml). */
 #ifdef SPH_AXISYMMETRIC
 #define PAIR_MASSES(I, j)                                                                          \
     const real r_j_ = axis_radius(pos[j].x, run), m_j = mass[j] / r_j_;                            \

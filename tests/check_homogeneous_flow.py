@@ -89,8 +89,7 @@ numerics:
   artificial_viscosity: {{scheme: monaghan, alpha: 0, beta: 0}}
   xsph: 0
   csph: true
-  cfl: {cfl}
-  end_time: {t}
+{cfl_line}  end_time: {t}
 output:
   snapshot_interval: {t}
   history_interval: {t}
@@ -203,14 +202,15 @@ PAIRS = [(0, 0), (1, 1), (2, 2), (0, 1), (1, 2), (0, 2)]
 def run_flow(sph, work, flow):
     """Runs one flow; returns (time, interior mask, snapshot arrays) or a failure."""
     name, dim, plane, lo, hi, velocity, gradient, material, end, formulation = flow[:10]
-    cfl = flow[12] if len(flow) > 12 else 0.3
+    # the solver's default step unless the flow sets its own
+    cfl_line = f"  cfl: {flow[12]}\n" if len(flow) > 12 else ""
     folder = os.path.join(work, name)
     os.makedirs(folder, exist_ok=True)
     path = os.path.join(folder, "case.yaml")
     with open(path, "w") as f:
         f.write(CASE.format(name=name, dim=dim, plane=plane, material=material, lo=lo, hi=hi,
                             velocity=velocity, gradient=gradient, dx=DX, t=end,
-                            formulation=formulation, cfl=cfl))
+                            formulation=formulation, cfl_line=cfl_line))
     out = os.path.join(folder, "run")
     proc = subprocess.run([sph, "run", path, "--out", out, "--quiet"], capture_output=True,
                           text=True)

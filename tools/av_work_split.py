@@ -29,8 +29,7 @@ import os
 import sys
 
 import numpy as np
-
-GHOST_FLAG = 32  # SPH_FLAG_GHOST, include/sph_shared.h
+import yaml
 
 try:
     import h5py
@@ -64,9 +63,8 @@ def snapshot_shares(path, edges, diameter):
                      "from a projectile's surface")
         t = float(f.attrs["time_s"][0])
         centre = np.asarray(f.attrs["projectile_centre_m"], dtype=float)
-        own = (f["flags"][:] & GHOST_FLAG) == 0
-        pos = f["position"][:][own]
-        power = (f["mass"][:] * f["artificial_viscosity_heating"][:])[own]
+        pos = f["position"][:]  # a snapshot holds the real particles only
+        power = f["mass"][:] * f["artificial_viscosity_heating"][:]
     dim = pos.shape[1]
     gap = np.linalg.norm(pos - centre[:dim], axis=1) - diameter / 2
     band = np.searchsorted(edges, np.maximum(gap, 0) / diameter, side="right") - 1
@@ -79,17 +77,13 @@ def read_case_keys(folder):
     """The projectile's diameter (m) and the factor from the snapshots' masses
     to the ledger's (2 pi axisymmetric, the thickness in plane 2-D, else 1:
     host/step.c, thickness_scale)."""
-    keys = {}
     with open(os.path.join(folder, "case.resolved.yaml")) as f:
-        for line in f:
-            key, _, value = line.split("#")[0].partition(":")
-            if value.strip() and key.strip() in ("dimension", "plane", "thickness", "diameter"):
-                keys.setdefault(key.strip(), value.strip().strip('"'))
-    diameter = float(keys["diameter"])
-    if keys.get("dimension") != "2":
+        case = yaml.safe_load(f)
+    diameter = float(case["projectile"]["diameter"])
+    if case["dimension"] != 2:
         return diameter, 1.0
-    return diameter, 2 * np.pi if keys.get("plane") == "axisymmetric" \
-        else float(keys.get("thickness", 1))
+    return diameter, 2 * np.pi if case.get("plane") == "axisymmetric" \
+        else float(case.get("thickness", 1))
 
 
 def snapshot_integral(snaps, scale, t_hist, w_hist):
@@ -138,7 +132,7 @@ def main():
         with open(os.path.join(args.run, "summary.json")) as f:
             summary = json.load(f)
         diameter, scale = read_case_keys(args.run)
-    except (OSError, ValueError, KeyError) as e:
+    except (OSError, ValueError, KeyError, TypeError, yaml.YAMLError) as e:
         sys.exit(f"av_work_split: {args.run}: no summary.json or no projectile diameter in "
                  f"case.resolved.yaml ({e})")
     edges = np.array([0.0] + args.bands)
