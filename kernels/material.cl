@@ -145,11 +145,17 @@ static inline void plastic_correction(__constant const struct sph_material *m, r
                                       real d[3][3], real density, __global real *plastic_strain,
                                       __global real *temperature)
 {
-    const real yield = yield_stress_of(m, *plastic_strain, equivalent_strain_rate(d), *temperature);
     real flat[9];
 #pragma unroll
     for (int k = 0; k < 9; ++k)
         flat[k] = s[k / 3][k % 3];
+    /* the same test radial_return makes, against a floor of the yield
+     * stress: the elastic bulk skips the Johnson-Cook transcendentals
+     * (taylor3d-200k: docs/performance.md, "The material update's elastic
+     * fast path") */
+    if (von_mises_equivalent(flat) <= yield_stress_floor(m, *temperature))
+        return;
+    const real yield = yield_stress_of(m, *plastic_strain, equivalent_strain_rate(d), *temperature);
     const real increment = radial_return(flat, yield, m->shear_modulus);
     if (increment <= 0)
         return;

@@ -122,16 +122,40 @@ static inline real yield_stress_of(SPH_CONSTANT struct sph_material *m, real pla
     return -1;
 }
 
-/* von Mises radial return (thesis eqs. 3.33-3.34; Wilkins 1964): the
- * deviatoric stress s (3x3, row-major) is scaled by min(1, sigma_y /
- * sqrt(3 J2)), J2 = s:s / 2. Returns the equivalent plastic strain increment
- * (sqrt(3 J2) - sigma_y) / (3 G), 0 when elastic. */
-static inline real radial_return(real s[9], real yield_stress, real shear_modulus)
+/* A value the current yield stress cannot fall below, from the
+ * temperature alone (Pa; -1 where there is none): a trial stress at or
+ * under it is elastic without the Johnson-Cook powers and logarithm, which
+ * most of a body at any time is. Johnson-Cook with B >= 0 and C >= 0 at or
+ * below T_room: A, since the hardening and rate factors are then >= 1 (in
+ * rounded arithmetic too: a sum of non-negatives and a product by a factor
+ * >= 1 round monotonically) and the thermal factor is 1. */
+static inline real yield_stress_floor(SPH_CONSTANT struct sph_material *m, real temperature)
+{
+    if (m->strength == SPH_STRENGTH_PERFECTLY_PLASTIC)
+        return m->yield_stress;
+    if (m->strength == SPH_STRENGTH_JOHNSON_COOK && m->hardening_b >= 0 && m->jc_rate_c >= 0 &&
+        temperature <= m->room_temperature)
+        return m->yield_stress;
+    return -1;
+}
+
+/* von Mises equivalent stress sqrt(3 J2), J2 = s:s / 2, of a deviatoric
+ * stress s (3x3, row-major), Pa. */
+static inline real von_mises_equivalent(const real s[9])
 {
     real j2 = 0;
     for (int k = 0; k < 9; ++k)
         j2 += (real)0.5 * s[k] * s[k];
-    const real equivalent = sqrt((real)3 * j2);
+    return sqrt((real)3 * j2);
+}
+
+/* von Mises radial return (thesis eqs. 3.33-3.34; Wilkins 1964): the
+ * deviatoric stress s (3x3, row-major) is scaled by min(1, sigma_y /
+ * sqrt(3 J2)). Returns the equivalent plastic strain increment
+ * (sqrt(3 J2) - sigma_y) / (3 G), 0 when elastic. */
+static inline real radial_return(real s[9], real yield_stress, real shear_modulus)
+{
+    const real equivalent = von_mises_equivalent(s);
     if (yield_stress < 0 || equivalent <= yield_stress)
         return 0;
     const real f = yield_stress / equivalent;

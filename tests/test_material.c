@@ -104,12 +104,37 @@ static void johnson_cook_yield(void **state)
     assert_relative(yield_stress_of(&m, 0.1, 1000, 2500), 0, 0);
 }
 
-static double equivalent_stress(const double s[9])
+/* The floor the material update tests trial stresses against before it
+ * evaluates Johnson-Cook (kernels/material.cl, plastic_correction): never
+ * above the yield stress over random plastic strains, rates and
+ * temperatures up to T_room (where it is A), none above T_room, none when B
+ * or C is negative (the factors could then fall below 1), and the yield
+ * stress itself for a perfectly plastic material. */
+static void yield_stress_floor_never_exceeds_the_yield_stress(void **state)
 {
-    double j2 = 0;
-    for (int k = 0; k < 9; ++k)
-        j2 += 0.5 * s[k] * s[k];
-    return sqrt(3 * j2);
+    (void)state;
+    srand(11);
+    struct sph_material m = steel_4340();
+    for (int trial = 0; trial < 10000; ++trial) {
+        const double strain = trial % 7 == 0 ? 0 : 5.0 * rand() / RAND_MAX;
+        const double rate = pow(10, -3 + 11.0 * rand() / RAND_MAX);
+        const double temperature = 93 + 200.0 * rand() / RAND_MAX;
+        const double floor = yield_stress_floor(&m, temperature);
+        assert_relative(floor, 792e6, 0);
+        assert_true(floor <= yield_stress_of(&m, strain, rate, temperature));
+    }
+    assert_relative(yield_stress_floor(&m, 293.5), -1, 0);
+    m.jc_rate_c = -0.01;
+    assert_relative(yield_stress_floor(&m, 293), -1, 0);
+    m.jc_rate_c = 0.014;
+    m.hardening_b = -1e6;
+    assert_relative(yield_stress_floor(&m, 293), -1, 0);
+    struct sph_material plastic = {0};
+    plastic.strength = SPH_STRENGTH_PERFECTLY_PLASTIC;
+    plastic.yield_stress = 25e6;
+    assert_relative(yield_stress_floor(&plastic, 1000), 25e6, 0);
+    plastic.strength = SPH_STRENGTH_ELASTIC;
+    assert_relative(yield_stress_floor(&plastic, 293), -1, 0);
 }
 
 /* Random symmetric deviatoric tensors: after the return sqrt(3 J2) equals
@@ -127,9 +152,9 @@ static void radial_return_lands_on_the_surface(void **state)
                 s[3 * a + b] = s[3 * b + a] = 1.2e9 * ((double)rand() / RAND_MAX - 0.5);
         const double mean = (s[0] + s[4] + s[8]) / 3;
         s[0] -= mean, s[4] -= mean, s[8] -= mean;
-        const double before = equivalent_stress(s);
+        const double before = von_mises_equivalent(s);
         const double increment = radial_return(s, yield, shear);
-        const double after = equivalent_stress(s);
+        const double after = von_mises_equivalent(s);
         assert_true(after <= before * (1 + 1e-12));
         if (before > yield) {
             assert_relative(after, yield, 1e-6);
@@ -148,6 +173,7 @@ int main(void)
         cmocka_unit_test(mie_gruneisen_tension),
         cmocka_unit_test(polynomial_eos),
         cmocka_unit_test(johnson_cook_yield),
+        cmocka_unit_test(yield_stress_floor_never_exceeds_the_yield_stress),
         cmocka_unit_test(radial_return_lands_on_the_surface),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
