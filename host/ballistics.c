@@ -117,7 +117,8 @@ static void impact_axis(const struct case_projectile *cp, double axis[3])
 
 /* The contact law (kernels/projectile.cl) pushes on a particle whose centre
  * is closer to the sphere's than radius + half its spacing: at t = 0 no
- * particle may be, and the shot line must meet the target. */
+ * particle may be (unless the sphere is embedded), and the shot line must
+ * meet the target. */
 int projectile_check_scene(const struct sph_case *c, const struct sph_scene *scene, char *error,
                            size_t error_size)
 {
@@ -127,7 +128,8 @@ int projectile_check_scene(const struct sph_case *c, const struct sph_scene *sce
     const double radius = 0.5 * cp->diameter;
     int worst = -1;
     double worst_overlap = 1e-9 * radius;
-    for (int i = 0; i < scene->count; ++i) {
+    /* an embedded sphere starts inside: host/scene.c removed what it overlaps */
+    for (int i = 0; i < (cp->embedded ? 0 : scene->count); ++i) {
         double d2 = 0;
         for (int a = 0; a < 3; ++a)
             d2 += (scene->position[3 * i + a] - cp->centre[a]) *
@@ -177,6 +179,7 @@ int solver_projectile_create(struct solver *s, const struct sph_case *c,
         return 0;
     p->enabled = 1;
     p->prescribed = cp->prescribed;
+    p->no_slip = cp->no_slip;
     p->radius = 0.5 * cp->diameter;
     p->mass = cp->density * M_PI * pow(cp->diameter, 3) / 6.0;
     const double speed = sqrt(dot3(cp->velocity, cp->velocity));
@@ -211,8 +214,8 @@ void solver_projectile_contact(struct solver *s, double dt, double dt_prev)
              real_value(s, &a_radius, "radius", p->radius),
              real_value(s, &a_speed, "stiffness_speed", p->stiffness_speed),
              real_value(s, &a_dx, "dx", s->dx), real_value(s, &a_dt, "dt", dt),
-             real_value(s, &a_prev, "dt_prev", dt_prev), MEM("partials", p->contact_partials),
-             INT("n", s->n));
+             real_value(s, &a_prev, "dt_prev", dt_prev), INT("no_slip", p->no_slip),
+             MEM("partials", p->contact_partials), INT("n", s->n));
     solver_launch(s, s->k.projectile_contact, (size_t)s->reduce_groups * REDUCE_GROUP,
                   REDUCE_GROUP);
 }

@@ -118,6 +118,7 @@ static const char *const formulation_names[] = {"updated_lagrangian", "total_lag
 static const char *const av_scheme_names[] = {"monaghan", "limited", "switch", "cullen_dehnen",
                                               NULL};
 static const char *const motion_names[] = {"free", "prescribed", NULL};
+static const char *const contact_names[] = {"free_slip", "no_slip", NULL};
 static const char *const ref_nouns[] = {"material", "body", "group"};
 
 /* ---- errors ------------------------------------------------------------ */
@@ -1352,6 +1353,8 @@ static const struct field projectile_fields[] = {
     INT("cavity_probe_count", struct case_projectile, cavity_probe_count, 0, 1,
         SPH_MAX_CAVITY_PROBES, SPH_MAX_CAVITY_PROBES, NULL),
     ENUM("motion", struct case_projectile, prescribed, 0, 0, motion_names, NULL),
+    ENUM("contact", struct case_projectile, no_slip, 0, 0, contact_names, NULL),
+    BOOL("embedded", struct case_projectile, embedded),
 };
 
 static const struct schema material_schema =

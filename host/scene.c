@@ -221,6 +221,42 @@ static int fill_bodies(const struct sph_case *c, struct sph_scene *s, int *body_
     return n;
 }
 
+/* projectile.embedded: the particles the contact would push at t = 0
+ * (centre closer than R - dx_i/2 to the sphere's: the contact layer's
+ * centres ride half a spacing inside the sphere, kernels/projectile.cl)
+ * are left out, so that it starts inside the target, the material's face on
+ * its surface, without a gap for an ambient pressure to close (a sphere
+ * towed through a liquid at rest: tools/towed_sphere_drag.py). Returns the
+ * new count. */
+static int carve_projectile(const struct sph_case *c, struct sph_scene *s, int *body_of, int n)
+{
+    const struct case_projectile *cp = &c->projectile;
+    if (!cp->enabled || !cp->embedded)
+        return n;
+    int kept = 0;
+    for (int p = 0; p < n; ++p) {
+        double d2 = 0;
+        for (int a = 0; a < 3; ++a)
+            d2 +=
+                (s->position[3 * p + a] - cp->centre[a]) * (s->position[3 * p + a] - cp->centre[a]);
+        const double reach =
+            0.5 * cp->diameter - 0.5 * c->numerics.dx * (1 << SPH_LEVEL_OF(s->flags[p]));
+        if (d2 < reach * reach)
+            continue;
+        for (int a = 0; a < 3; ++a) {
+            s->position[3 * kept + a] = s->position[3 * p + a];
+            s->velocity[3 * kept + a] = s->velocity[3 * p + a];
+        }
+        s->mass[kept] = s->mass[p];
+        s->density[kept] = s->density[p];
+        s->material[kept] = s->material[p];
+        s->flags[kept] = s->flags[p];
+        body_of[kept] = body_of[p];
+        ++kept;
+    }
+    return kept;
+}
+
 static int apply_groups(const struct sph_case *c, struct sph_scene *s, const int *body_of,
                         char *error, size_t error_size)
 {
@@ -362,7 +398,7 @@ int scene_build(const struct sph_case *c, struct sph_scene *s, char *error, size
         snprintf(error, error_size, "out of host memory for %ld particles", total);
         return 1;
     }
-    s->count = fill_bodies(c, s, body_of);
+    s->count = carve_projectile(c, s, body_of, fill_bodies(c, s, body_of));
     for (int b = 0; b < c->body_count; ++b) {
         int members = 0;
         for (int p = 0; p < s->count; ++p)

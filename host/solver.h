@@ -135,6 +135,7 @@ struct kernels {
 struct projectile {
     int enabled;
     int prescribed;          /* held at its initial velocity (projectile.motion) */
+    int no_slip;             /* projectile.contact: no_slip */
     cl_mem state;            /* SPH_PROJ_SLOTS reals */
     cl_mem contact_partials; /* SPH_CONTACT_SLOTS per reduce group */
     double radius, mass;     /* m, kg */

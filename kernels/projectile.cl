@@ -45,14 +45,18 @@
 #endif
 
 /* reads pos, vel, vel_half, mass, flags, state; updates acceleration; writes
- * contact partials. */
+ * contact partials. With no_slip (projectile.contact) the contact also
+ * sticks the particle to the sphere's surface tangentially; the sphere
+ * does not rotate (it has no angular velocity), so the stick's torque is
+ * not integrated: exact for a shot along a symmetry axis, where the
+ * torques cancel. */
 __kernel __attribute__((reqd_work_group_size(REDUCE_WG, 1, 1))) void
 projectile_contact(__global const vec *restrict pos, __global const vec *restrict vel,
                    __global const vec *restrict vel_half, __global const real *restrict mass,
                    __global const int *restrict flags, __global vec *restrict acceleration,
                    __global const real *restrict state, const real radius,
                    const real stiffness_speed, const real dx, const real dt, const real dt_prev,
-                   __global real *restrict partials, const int n)
+                   const int no_slip, __global real *restrict partials, const int n)
 {
     __local real acc[REDUCE_WG][SPH_CONTACT_SLOTS];
     real mine[SPH_CONTACT_SLOTS];
@@ -62,6 +66,7 @@ projectile_contact(__global const vec *restrict pos, __global const vec *restric
     const vec sphere_velocity =
         vec_make(state[SPH_PROJ_V], state[SPH_PROJ_V + 1], state[SPH_PROJ_V + 2]);
     const real k2 = stiffness_speed * stiffness_speed;
+    const real kick = (real)0.5 * (dt_prev + dt); /* the particles' kick (integrate.cl) */
     FOR_GROUP_BLOCK (i, n) {
         const int flag = flags[i];
         if (flag & (SPH_FLAG_GHOST | SPH_FLAG_FIXED))
@@ -79,11 +84,19 @@ projectile_contact(__global const vec *restrict pos, __global const vec *restric
         /* the damper never more than stops the approach within the kick
          * (an explicit damper this stiff would reverse it and feed energy
          * in) */
-        const real kick = (real)0.5 * (dt_prev + dt);
         const real damper =
             approach > 0 ? fmin((real)2 * stiffness_speed / dx_i * approach, approach / kick) : 0;
         const real a_n = spring + damper;
-        const vec a = a_n * normal;
+        vec a = a_n * normal, a_stick = VEC_ZERO;
+        if (no_slip) {
+            /* the tangential velocity relative to the sphere, as the kick
+             * would leave it, removed within the kick (an impulsive stick:
+             * the discrete no-slip condition at the contact layer, whose
+             * shear the gel's own viscous stress then carries outwards) */
+            const vec relative = vel_half[i] + kick * (acceleration[i] + a) - sphere_velocity;
+            a_stick = -(relative - dot(relative, normal) * normal) / kick;
+            a += a_stick;
+        }
         acceleration[i] += a;
         const real m = mass[i];
         mine[SPH_CONTACT_FX] += m * a.x;
@@ -99,6 +112,11 @@ projectile_contact(__global const vec *restrict pos, __global const vec *restric
          * negligible fraction per step) */
         const vec v_next = vel_half[i] + (real)0.5 * (dt_prev + dt) * acceleration[i];
         mine[SPH_CONTACT_DISSIPATION] += m * (a_n - spring) * dot(sphere_velocity - v_next, normal);
+        /* ... and the stick's, on the relative velocity at the middle of the
+         * kick: zero for a particle already stuck, whose stick only
+         * balances the other tangential forces */
+        mine[SPH_CONTACT_DISSIPATION] +=
+            m * dot(a_stick, sphere_velocity - (real)0.5 * (vel_half[i] + v_next));
     }
     uchar op[SPH_CONTACT_SLOTS];
     for (int k = 0; k < SPH_CONTACT_SLOTS; ++k)
