@@ -990,6 +990,11 @@ static int check_numerics(struct ctx *x, const struct frame *fr, void *base)
                     "largest value a particle's alpha reaches (switch is the default scheme); "
                     "for a constant viscosity write scheme: monaghan",
                     n->av_alpha_min, n->av_alpha, av_scheme_names[n->av_scheme]);
+    if (n->av_balsara && n->av_scheme != SPH_AV_SWITCH && n->av_scheme != SPH_AV_CULLEN_DEHNEN)
+        return fail(x, line_of(fr, "artificial_viscosity"), subkey(x, "artificial_viscosity"),
+                    "expected scheme switch or cullen_dehnen with balsara: true (it scales the "
+                    "floor alpha_min their alpha decays to), got scheme %s",
+                    av_scheme_names[n->av_scheme]);
     if (n->total_lagrangian && n->as_epsilon > 0)
         return fail(x, line_of(fr, "artificial_stress"), subkey(x, "artificial_stress"),
                     "expected epsilon 0 with formulation total_lagrangian (it has no tensile "
@@ -1286,6 +1291,7 @@ static const struct field viscosity_fields[] = {
     NUMBER("beta", struct case_numerics, av_beta, 0, R_NONNEG, 0, 0, 1.5, NULL),
     ENUM("scheme", struct case_numerics, av_scheme, 0, SPH_AV_SWITCH, av_scheme_names, NULL),
     NUMBER("alpha_min", struct case_numerics, av_alpha_min, 0, R_NONNEG, 0, 0, 0.1, NULL),
+    BOOL("balsara", struct case_numerics, av_balsara),
 };
 static const struct schema viscosity_schema = SCHEMA(viscosity_fields, struct case_numerics, NULL);
 

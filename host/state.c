@@ -71,7 +71,7 @@ void solver_build_options(const struct sph_case *c, char *options, size_t size)
      * warnings with clang -x cl -fsyntax-only -Wall (docs/ARCHITECTURE.md) */
     snprintf(
         options, size,
-        "-cl-std=CL1.2 -cl-kernel-arg-info -w -DSPH_DIM=%d -DSPH_KERNEL=%d%s%s%s%s%s%s%s%s%s%s",
+        "-cl-std=CL1.2 -cl-kernel-arg-info -w -DSPH_DIM=%d -DSPH_KERNEL=%d%s%s%s%s%s%s%s%s%s%s%s",
         c->dimension, (int)num->kernel, solver_case_graded(c) ? " -DSPH_GRADED" : "",
         c->dimension == 2 && c->plane == SPH_PLANE_STRESS         ? " -DSPH_PLANE_STRESS"
         : c->dimension == 2 && c->plane == SPH_PLANE_AXISYMMETRIC ? " -DSPH_AXISYMMETRIC"
@@ -86,7 +86,7 @@ void solver_build_options(const struct sph_case *c, char *options, size_t size)
         : num->av_scheme == SPH_AV_SWITCH        ? " -DSPH_AV_SWITCH"
         : num->av_scheme == SPH_AV_CULLEN_DEHNEN ? " -DSPH_AV_SWITCH -DSPH_AV_CULLEN_DEHNEN"
                                                  : "",
-        num->double_precision ? " -DSPH_DOUBLE" : "",
+        num->av_balsara ? " -DSPH_AV_BALSARA" : "", num->double_precision ? " -DSPH_DOUBLE" : "",
         num->total_lagrangian ? " -DSPH_TOTAL_LAGRANGIAN" : "",
         case_has_viscosity(c) ? " -DSPH_VISCOSITY" : "");
     const size_t used = strlen(options);

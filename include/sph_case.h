@@ -165,9 +165,10 @@ struct case_numerics {
     double dx;                   /* lattice spacing, m, required */
     enum sph_kernel_type kernel; /* default wendland_c2 */
     double h_over_dx;            /* default 1.2 */
-    double av_alpha, av_beta;    /* default 0.1, 0.1 */
-    int av_scheme;               /* enum sph_av_scheme, default monaghan */
+    double av_alpha, av_beta;    /* default 1.5, 1.5 (the one numerics block) */
+    int av_scheme;               /* enum sph_av_scheme, default switch */
     double av_alpha_min;         /* switch: the floor alpha decays to, default 0.1 */
+    int av_balsara;              /* the floor times Balsara's factor (material.cl), default 0 */
     double as_epsilon;           /* default 0 (off) */
     int as_exponent;             /* default 4 */
     int as_lattice_weight;       /* weight: 0 relative (default), 1 lattice (Monaghan 2000) */

@@ -241,14 +241,42 @@ static inline real switch_decay_rate(real sound_speed, __constant const struct s
     return (real)0.2 * sound_speed / run->h;
 }
 
-static inline real switch_alpha(real alpha, real divergence, real sound_speed, real dt,
+static inline real switch_alpha(real alpha, real divergence, real floor, real sound_speed, real dt,
                                 __constant const struct sph_run_params *run)
 {
     const real decay = switch_decay_rate(sound_speed, run), source = fmax(-divergence, (real)0);
     const real rate = decay + source;
-    const real target = (decay * run->av_alpha_min + source * run->av_alpha) / rate;
+    const real target = (decay * floor + source * run->av_alpha) / rate;
     const real next = target + (alpha - target) * exp(-rate * dt);
-    return clamp(next, run->av_alpha_min, fmax(run->av_alpha, run->av_alpha_min));
+    return clamp(next, floor, fmax(run->av_alpha, floor));
+}
+
+/* The floor alpha decays to: alpha_min, or with SPH_AV_BALSARA
+ * (numerics.artificial_viscosity.balsara) alpha_min times Balsara's factor
+ * |div v| / (|div v| + |curl v| + 1e-4 c / h) (Balsara 1995, J. Comput.
+ * Phys. 121:357): about 1 in compression, about 0 in shear and
+ * rotation, so the floor no longer damps a shear flow (a viscous liquid
+ * past a sphere, a gel's wake) while a shock still lifts alpha at the
+ * compression rate. |curl v|^2 = 2 w:w, w the spin. */
+static inline real switch_floor(real divergence, real w[3][3], real sound_speed,
+                                __constant const struct sph_run_params *run)
+{
+#ifdef SPH_AV_BALSARA
+    real spin2 = 0;
+#pragma unroll
+    for (int a = 0; a < 3; ++a)
+#pragma unroll
+        for (int b = 0; b < 3; ++b)
+            spin2 += w[a][b] * w[a][b];
+    const real div = fabs(divergence);
+    return run->av_alpha_min * div /
+           (div + sqrt((real)2 * spin2) + (real)1e-4 * sound_speed / run->h);
+#else
+    (void)divergence;
+    (void)w;
+    (void)sound_speed;
+    return run->av_alpha_min;
+#endif
 }
 #endif
 
@@ -259,12 +287,12 @@ static inline real switch_alpha(real alpha, real divergence, real sound_speed, r
  * the Morris-Monaghan source, -div v itself, keeps it up):
  *   alpha_loc = alpha_max h^2 A / (c^2 + h^2 A),
  * alpha jumps up to alpha_loc and otherwise decays to it at the switch's
- * rate 0.2 c / h, never below alpha_min. d(div v)/dt is taken from two
+ * rate 0.2 c / h, never below the floor (switch_floor). d(div v)/dt is taken from two
  * successive steps' div v (av_divergence); xi = (div v)^2 / ((div v)^2 +
  * S':S'), S' the traceless strain rate (Balsara's form of their limiter,
  * without the neighbour sign sum), keeps it off in shear. c is the
  * particle's own sound speed, h the finest smoothing length. */
-static inline real cullen_dehnen_alpha(real alpha, real divergence, real d[3][3],
+static inline real cullen_dehnen_alpha(real alpha, real divergence, real d[3][3], real floor,
                                        __global real *previous_divergence, real sound_speed,
                                        real dt, __constant const struct sph_run_params *run)
 {
@@ -276,7 +304,7 @@ static inline real cullen_dehnen_alpha(real alpha, real divergence, real d[3][3]
     const real alpha_local = run->av_alpha * h2a / (sound_speed * sound_speed + h2a);
     const real decayed =
         alpha_local + (alpha - alpha_local) * exp(-switch_decay_rate(sound_speed, run) * dt);
-    return fmax(alpha < alpha_local ? alpha_local : decayed, run->av_alpha_min);
+    return fmax(alpha < alpha_local ? alpha_local : decayed, floor);
 }
 #endif
 
@@ -426,9 +454,11 @@ material_update_particle(int i, real l[3][3], real density_rate_i, real dt,
     const real trace_d = d[0][0] + d[1][1] + d[2][2];
 #if defined(SPH_AV_CULLEN_DEHNEN)
     av_alpha[i] =
-        cullen_dehnen_alpha(av_alpha[i], trace_d, d, &av_divergence[i], sound_speed[i], dt, run);
+        cullen_dehnen_alpha(av_alpha[i], trace_d, d, switch_floor(trace_d, w, sound_speed[i], run),
+                            &av_divergence[i], sound_speed[i], dt, run);
 #elif defined(SPH_AV_SWITCH)
-    av_alpha[i] = switch_alpha(av_alpha[i], trace_d, sound_speed[i], dt, run);
+    av_alpha[i] = switch_alpha(av_alpha[i], trace_d, switch_floor(trace_d, w, sound_speed[i], run),
+                               sound_speed[i], dt, run);
     (void)av_divergence;
 #else
     (void)av_alpha;
