@@ -14,7 +14,7 @@ usage: measures.py depth TIMES_NS RUN [RUN ...]
            in every other snapshot after the first, the particles ahead of
            the sphere's centre within R + dx_i/2 of it, and how many of
            them were there in the first snapshot after impact (the stuck
-           nose cap of the no-slip contact)
+           nose cap of the no-slip contact), and how many have failed
 
 RUN is a folder written by `sph run` (ballistics.csv, case.resolved.yaml).
 """
@@ -83,8 +83,8 @@ def contact(times, runs):
 
 
 def cap(runs):
-    """Front particles near the sphere per snapshot (those still there from
-    the first snapshot after impact in brackets)."""
+    """Front particles near the sphere per snapshot (in brackets: those
+    still there from the first snapshot after impact, and the failed)."""
     for run in runs:
         with open(os.path.join(run, "case.resolved.yaml")) as f:
             case = yaml.safe_load(f)
@@ -98,12 +98,14 @@ def cap(runs):
                 x = s["position"][:][:, :dim]
                 level = (s["flags"][:] >> 8) & 15  # include/sph_shared.h: SPH_LEVEL_OF
                 ids = s["id"][:]
+                failed = (s["flags"][:] & 8) != 0  # SPH_FLAG_DAMAGED
                 centre = s.attrs["projectile_centre_m"][:dim]
             d = x - centre
             near = np.linalg.norm(d, axis=1) < radius + 0.5 * case["numerics"]["dx"] * 2.0**level
-            front = set(ids[near & (d @ axis > 0)].tolist())
+            ahead = near & (d @ axis > 0)
+            front = set(ids[ahead].tolist())
             first = front if first is None else first
-            cells.append(f"{len(front)} ({len(front & first)})")
+            cells.append(f"{len(front)} ({len(front & first)}, {failed[ahead].sum()} failed)")
         print(f"{run} | " + " | ".join(cells))
 
 
