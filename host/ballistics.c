@@ -116,9 +116,10 @@ static void impact_axis(const struct case_projectile *cp, double axis[3])
 }
 
 /* The contact law (kernels/projectile.cl) pushes on a particle whose centre
- * is closer to the sphere's than radius + half its spacing: at t = 0 no
- * particle may be (unless the sphere is embedded), and the shot line must
- * meet the target. */
+ * comes closer to the sphere's than radius - half its spacing; at t = 0 no
+ * particle may reach into the sphere at all (centre within radius + half
+ * its spacing) unless the sphere is embedded, and the shot line must meet
+ * the target. */
 int projectile_check_scene(const struct sph_case *c, const struct sph_scene *scene, char *error,
                            size_t error_size)
 {

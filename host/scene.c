@@ -406,8 +406,12 @@ int scene_build(const struct sph_case *c, struct sph_scene *s, char *error, size
         if (members == 0) {
             snprintf(error, error_size,
                      "%s: body '%s' holds no particle: its shape contains no lattice point at "
-                     "dx = %g m",
-                     c->path, c->bodies[b].name, c->numerics.dx);
+                     "dx = %g m%s",
+                     c->path, c->bodies[b].name, c->numerics.dx,
+                     c->projectile.enabled && c->projectile.embedded
+                         ? " outside the embedded projectile (projectile.embedded removes the "
+                           "points it overlaps)"
+                         : "");
             free(body_of);
             scene_free(s);
             return 1;

@@ -5,6 +5,7 @@ rest: its drag coefficient against the standard curve (issue 16, item 3).
 usage: towed_sphere_drag.py [--case CASE] [--re RE ...] [--n N ...]
                             [--contact no_slip free_slip] [--results DIR]
                             [--set KEY=VALUE ...] [--check LOW HIGH]
+                            [--min-stick-ratio R]
 
 For each Reynolds number Re = rho U d / eta (eta set from it), each
 spacing d / dx = N and each contact, runs `sph run CASE` and takes
@@ -16,7 +17,9 @@ unbounded liquid, Clift & Gauvin's fit (tools/penetration_models.py); the
 case's tube raises the drag by its blockage (cases/towed_sphere_3d.yaml
 says by how much). Writes DIR/towed_sphere_drag.csv and .md (default
 results/towed_sphere/). --check LOW HIGH exits 1 unless every Cd / Cd_ref
-lies in [LOW, HIGH] (the ctest's short form).
+lies in [LOW, HIGH]; --min-stick-ratio R exits 1 unless, at each Re and
+spacing run with both contacts, the no-slip Cd is at least R times the
+free-slip one (the ctest's short form: a stick that does nothing fails).
 """
 import argparse
 import csv
@@ -63,10 +66,11 @@ def main():
     ap.add_argument("--results", default=os.path.join(root, "results", "towed_sphere"))
     ap.add_argument("--set", action="append", default=[], help="extra case override")
     ap.add_argument("--check", type=float, nargs=2, metavar=("LOW", "HIGH"))
+    ap.add_argument("--min-stick-ratio", type=float, metavar="R")
     args = ap.parse_args()
     rho, speed, diameter, liquid = case_parameters(args.case)
     os.makedirs(args.results, exist_ok=True)
-    rows, ratios = [], []
+    rows, ratios, by_contact = [], [], {}
     for re in args.re:
         eta = rho * speed * diameter / re
         for n in args.n:
@@ -79,6 +83,7 @@ def main():
                 cd, spread = drag_coefficient(out, rho, speed, diameter)
                 reference = float(clift_gauvin_cd(re))
                 ratios.append(cd / reference)
+                by_contact[(re, n, contact)] = cd
                 rows.append([f"{re:g}", f"{n:g}", contact, f"{eta:.4g}", f"{cd:.4f}", f"{spread:.4f}",
                              f"{reference:.4f}", f"{cd / reference:.3f}", summary.get("status"),
                              summary.get("particles"), summary.get("steps"),
@@ -90,6 +95,14 @@ def main():
     if args.check and not all(args.check[0] <= r <= args.check[1] for r in ratios):
         sys.exit(f"towed_sphere_drag: Cd / Cd_ref {ratios} outside [{args.check[0]}, "
                  f"{args.check[1]}]")
+    if args.min_stick_ratio:
+        for (re, n, contact), cd in by_contact.items():
+            free = by_contact.get((re, n, "free_slip"))
+            if contact == "no_slip" and free:
+                print(f"Re {re:g}, d/dx {n:g}: no-slip Cd / free-slip Cd = {cd / free:.3f}")
+                if cd / free < args.min_stick_ratio:
+                    sys.exit(f"towed_sphere_drag: no-slip Cd {cd:.4f} is less than "
+                             f"{args.min_stick_ratio} times the free-slip {free:.4f}")
 
 
 if __name__ == "__main__":

@@ -10,6 +10,12 @@ usage: measures.py depth TIMES_NS RUN [RUN ...]
            R 25 MPa: REFERENCES.md 3), and that fit's drag part
        measures.py contact TIMES_NS RUN [RUN ...]
            particles in contact and the holding force (mN), 50 ns windows
+       measures.py slip RUN [RUN ...]
+           per snapshot while the sphere moves faster than 50 m/s: the
+           particles inside the contact's penalty layer (centre within
+           R - dx_i/2 of the sphere's: the ones no_slip sticks) and the
+           mean tangential speed, over the sphere's, of the face just
+           outside it (R - dx_i/2 to R + dx_i/2)
        measures.py cap RUN [RUN ...]
            in every other snapshot after the first, the particles ahead of
            the sphere's centre within R + dx_i/2 of it, and how many of
@@ -89,7 +95,7 @@ def cap(runs):
         with open(os.path.join(run, "case.resolved.yaml")) as f:
             case = yaml.safe_load(f)
         dim = case["dimension"]
-        radius = 0.5 * case["projectile"]["diameter"]
+        radius = 0.5 * float(case["projectile"]["diameter"])
         axis = np.array(case["projectile"]["velocity"], dtype=float)[:dim]
         axis /= np.linalg.norm(axis)
         first, cells = None, []
@@ -101,7 +107,7 @@ def cap(runs):
                 failed = (s["flags"][:] & 8) != 0  # SPH_FLAG_DAMAGED
                 centre = s.attrs["projectile_centre_m"][:dim]
             d = x - centre
-            near = np.linalg.norm(d, axis=1) < radius + 0.5 * case["numerics"]["dx"] * 2.0**level
+            near = np.linalg.norm(d, axis=1) < radius + 0.5 * float(case["numerics"]["dx"]) * 2.0**level
             ahead = near & (d @ axis > 0)
             front = set(ids[ahead].tolist())
             first = front if first is None else first
@@ -109,13 +115,44 @@ def cap(runs):
         print(f"{run} | " + " | ".join(cells))
 
 
+def slip(runs):
+    for run in runs:
+        with open(os.path.join(run, "case.resolved.yaml")) as f:
+            case = yaml.safe_load(f)
+        dim = case["dimension"]
+        radius = 0.5 * float(case["projectile"]["diameter"])
+        print(f"{run}\nt (ns) | sphere speed (m/s) | inside the penalty layer | face slip / speed")
+        for path in sorted(glob.glob(os.path.join(run, "snap_*.h5")))[1:]:
+            with h5py.File(path) as s:
+                x = s["position"][:][:, :dim]
+                v = s["velocity"][:][:, :dim]
+                level = (s["flags"][:] >> 8) & 15
+                centre = s.attrs["projectile_centre_m"][:dim]
+                sphere = s.attrs["projectile_velocity_m_per_s"][:dim]
+                time = float(s.attrs["time_s"][0])
+            speed = np.linalg.norm(sphere)
+            if speed < 50:
+                continue
+            d = x - centre
+            r = np.linalg.norm(d, axis=1)
+            half = 0.5 * float(case["numerics"]["dx"]) * 2.0**level
+            normal = d / r[:, None]
+            relative = v - sphere
+            tangential = relative - np.sum(relative * normal, axis=1)[:, None] * normal
+            face = (r >= radius - half) & (r < radius + half)
+            slip_face = np.linalg.norm(tangential[face], axis=1).mean() / speed
+            print(f"{time * 1e9:.0f} | {speed:.0f} | {(r < radius - half).sum()} | {slip_face:.2f}")
+
+
 def main():
-    if len(sys.argv) < 3 or sys.argv[1] not in ("depth", "resistance", "contact", "cap"):
+    if len(sys.argv) < 3 or sys.argv[1] not in ("depth", "resistance", "contact", "cap", "slip"):
         sys.exit(__doc__)
     if sys.argv[1] == "resistance":
         resistance(sys.argv[2:])
     elif sys.argv[1] == "cap":
         cap(sys.argv[2:])
+    elif sys.argv[1] == "slip":
+        slip(sys.argv[2:])
     else:
         times = [float(t) for t in sys.argv[2].split(",")]
         (depth if sys.argv[1] == "depth" else contact)(times, sys.argv[3:])
