@@ -72,12 +72,6 @@ static void model_factors(struct solver *s, const struct sph_case *c, struct pro
     p->momentum_scale = multiplicity; /* the reduction already applies the thickness */
 }
 
-static double particle_spacing(const struct sph_case *c, const struct sph_scene *scene, int i)
-{
-    const int level = SPH_LEVEL_OF(scene->flags[i]);
-    return c->numerics.dx * (1 << level);
-}
-
 /* Where the shot line origin + s u enters and leaves the target, m along
  * u: over the particles whose centre lies within sqrt(dim) / 2 own
  * spacings of the line, the smallest x . u less half a spacing and the largest plus half a
@@ -94,7 +88,7 @@ static void shot_line_faces(const struct sph_case *c, const struct sph_scene *sc
      * faces spread by no more than that radius times tan theta */
     const double reach2 = 0.25 * c->dimension;
     for (int i = 0; i < scene->count; ++i) {
-        const double spacing = particle_spacing(c, scene, i);
+        const double spacing = scene_particle_spacing(c, scene, i);
         double r[3], along = 0, off2 = 0;
         for (int a = 0; a < 3; ++a)
             r[a] = scene->position[3 * i + a] - origin[a], along += r[a] * axis[a];
@@ -130,15 +124,13 @@ int projectile_check_scene(const struct sph_case *c, const struct sph_scene *sce
     int worst = -1;
     double worst_overlap = 1e-9 * radius;
     /* an embedded sphere starts inside: host/scene.c removed what it overlaps */
-    for (int i = 0; i < (cp->embedded ? 0 : scene->count); ++i) {
-        double d2 = 0;
-        for (int a = 0; a < 3; ++a)
-            d2 += (scene->position[3 * i + a] - cp->centre[a]) *
-                  (scene->position[3 * i + a] - cp->centre[a]);
-        const double overlap = radius + 0.5 * particle_spacing(c, scene, i) - sqrt(d2);
-        if (overlap > worst_overlap)
-            worst_overlap = overlap, worst = i;
-    }
+    if (!cp->embedded)
+        for (int i = 0; i < scene->count; ++i) {
+            const double overlap = radius + 0.5 * scene_particle_spacing(c, scene, i) -
+                                   scene_particle_distance(scene, i, cp->centre);
+            if (overlap > worst_overlap)
+                worst_overlap = overlap, worst = i;
+        }
     if (worst >= 0) {
         const double *x = &scene->position[3 * worst];
         snprintf(error, error_size,

@@ -221,6 +221,19 @@ static int fill_bodies(const struct sph_case *c, struct sph_scene *s, int *body_
     return n;
 }
 
+double scene_particle_spacing(const struct sph_case *c, const struct sph_scene *scene, int i)
+{
+    return c->numerics.dx * (double)(1 << SPH_LEVEL_OF(scene->flags[i]));
+}
+
+double scene_particle_distance(const struct sph_scene *scene, int i, const double point[3])
+{
+    double d2 = 0;
+    for (int a = 0; a < 3; ++a)
+        d2 += (scene->position[3 * i + a] - point[a]) * (scene->position[3 * i + a] - point[a]);
+    return sqrt(d2);
+}
+
 /* projectile.embedded: the particles the contact would push at t = 0
  * (centre closer than R - dx_i/2 to the sphere's: the contact layer's
  * centres ride half a spacing inside the sphere, kernels/projectile.cl)
@@ -235,13 +248,8 @@ static int carve_projectile(const struct sph_case *c, struct sph_scene *s, int *
         return n;
     int kept = 0;
     for (int p = 0; p < n; ++p) {
-        double d2 = 0;
-        for (int a = 0; a < 3; ++a)
-            d2 +=
-                (s->position[3 * p + a] - cp->centre[a]) * (s->position[3 * p + a] - cp->centre[a]);
-        const double reach =
-            0.5 * cp->diameter - 0.5 * c->numerics.dx * (1 << SPH_LEVEL_OF(s->flags[p]));
-        if (d2 < reach * reach)
+        if (scene_particle_distance(s, p, cp->centre) <
+            0.5 * cp->diameter - 0.5 * scene_particle_spacing(c, s, p))
             continue;
         for (int a = 0; a < 3; ++a) {
             s->position[3 * kept + a] = s->position[3 * p + a];

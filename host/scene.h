@@ -53,6 +53,12 @@ int scene_has_track(const struct sph_case *c);
  * `error` (no particles, overlapping loads, empty group). */
 int scene_build(const struct sph_case *c, struct sph_scene *scene, char *error, size_t error_size);
 
+/* Particle i's lattice spacing, m (numerics.dx on its grading level). */
+double scene_particle_spacing(const struct sph_case *c, const struct sph_scene *scene, int i);
+
+/* Particle i's distance from `point`, m. */
+double scene_particle_distance(const struct sph_scene *scene, int i, const double point[3]);
+
 /* The load scale factor of the time law at time t (0..1). */
 double scene_load_scale(const struct case_load *load, double t);
 

@@ -110,7 +110,7 @@ projectile_contact(__global const vec *restrict pos, __global const vec *restric
          * v^(n+1/2) = v^(n-1/2) + (dt_prev + dt)/2 a (integrate.cl, a now
          * complete), the sphere with its velocity (it changes by a
          * negligible fraction per step) */
-        const vec v_next = vel_half[i] + (real)0.5 * (dt_prev + dt) * acceleration[i];
+        const vec v_next = vel_half[i] + kick * acceleration[i];
         mine[SPH_CONTACT_DISSIPATION] += m * (a_n - spring) * dot(sphere_velocity - v_next, normal);
         /* ... and the stick's, on the relative velocity at the middle of the
          * kick: zero for a particle already stuck, whose stick only

@@ -322,12 +322,6 @@ def error_against_cost(ax, walls, values, limit, ylabel, label=None):
     ax.set_ylabel(ylabel)
 
 
-def steady_resistance(rows, d, t0, t1):
-    """Mean force over (pi d^2 / 4) in the window [t0, t1], Pa."""
-    forces = [float(r["decelerating_force_N"]) for r in rows if t0 <= float(r["time_s"]) <= t1]
-    return sum(forces) / len(forces) / (math.pi * d * d / 4)
-
-
 def cmd_resistance(args):
     """The sphere held at v0 (projectile.motion: prescribed) through 5 d (--travel) of
     target: the inertial drag of the impact phase measured without the
@@ -342,7 +336,7 @@ def cmd_resistance(args):
         s, rows = run(args, case, d, v0, n, f"{case}_resistance_v{v0:g}_n{n:g}",
                       extra=["projectile.motion=prescribed", f"numerics.end_time={end!r}",
                              f"output.snapshot_interval={end / 5!r}"])
-        r = steady_resistance(rows, d, 0.5 * end, end)
+        r, _ = studylib.resistance_in_window(rows, d, 0.5 * end, end)
         values.append(r)
         walls.append(s["wall_time_s"])
         table.append([f"{n:g}", f"{1e6 * d / n:.3f}", f"{r / 1e6:.2f}",

@@ -1,6 +1,8 @@
 """What the study tools share: running `sph` on a case, writing a table
-as CSV and Markdown, and the Richardson estimate from three spacings
-(tools/beam_study.py, tools/taylor_study.py, tools/penetration_study.py)."""
+as CSV and Markdown, the Richardson estimate from three spacings, and a
+sphere's resistance over a window of its ballistics.csv
+(tools/beam_study.py, tools/taylor_study.py, tools/penetration_study.py,
+tools/towed_sphere_drag.py)."""
 import csv
 import json
 import math
@@ -27,6 +29,17 @@ def run(case, out, sets, tool):
         sys.exit(f"{tool}: sph exited with {proc.returncode}")
     with open(os.path.join(out, "summary.json")) as f:
         return json.load(f)
+
+
+def resistance_in_window(rows, d, t0, t1):
+    """The force on a sphere of diameter d (m) over its frontal area pi d^2 / 4,
+    from ballistics.csv rows (decelerating_force_N) with t0 <= time_s <= t1:
+    its mean and standard deviation, Pa."""
+    forces = [float(r["decelerating_force_N"]) for r in rows if t0 <= float(r["time_s"]) <= t1]
+    area = math.pi * d * d / 4
+    mean = sum(forces) / len(forces)
+    spread = math.sqrt(sum((f - mean) ** 2 for f in forces) / len(forces))
+    return mean / area, spread / area
 
 
 def write_table(folder, name, header, rows):

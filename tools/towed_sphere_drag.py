@@ -27,7 +27,6 @@ import math
 import os
 import sys
 
-import numpy as np
 import yaml
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -49,11 +48,10 @@ def drag_coefficient(run, rho, speed, diameter):
     """Mean Cd over the second half of the run, and its standard deviation."""
     with open(os.path.join(run, "ballistics.csv")) as f:
         rows = list(csv.DictReader(f))
-    t = np.array([float(r["time_s"]) for r in rows])
-    force = np.array([float(r["decelerating_force_N"]) for r in rows])
-    late = t > 0.5 * t[-1]
-    cd = 2.0 * force[late] / (rho * speed * speed * math.pi * diameter * diameter / 4.0)
-    return float(cd.mean()), float(cd.std())
+    end = float(rows[-1]["time_s"])
+    mean, spread = studylib.resistance_in_window(rows, diameter, 0.5 * end, end)
+    dynamic = 0.5 * rho * speed * speed
+    return mean / dynamic, spread / dynamic
 
 
 def main():
