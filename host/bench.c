@@ -68,7 +68,8 @@ struct scene_result {
     double seconds_per_step[BENCH_MAX_REPEATS];
     double median_s;
     size_t bytes_per_slot;
-    double device_bytes; /* every buffer's size over the real particles */
+    double device_bytes;    /* every buffer's size over the real particles */
+    double lane_list_bytes; /* the lane lists' as allocated (measured) */
     struct solver_memory memory;
     struct profiler profile;
 };
@@ -190,6 +191,13 @@ static int run_scene(struct sph_device *dev, const struct bench_scene *b,
         if (cl_failed() && snprintf(error, error_size, "%s", cl_failure()) > 0)
             failed = 1;
         r->ghosts = s.n - s.n_real; /* the mirror images of the last sort */
+        /* the lane lists, sized at each sort: as allocated at the end, in
+         * place of their estimate */
+        r->lane_list_bytes = s.lanes > 1
+                                 ? (double)sizeof(cl_int) *
+                                       (double)(s.lane_list_capacity + s.lane_list_start_capacity)
+                                 : 0;
+        r->device_bytes += r->lane_list_bytes - (double)s.lane_list_estimate * s.capacity;
         solver_release(&s);
     }
     scene_free(&scene);
@@ -234,9 +242,10 @@ static void write_scene_json(const struct scene_result *r, FILE *f)
     fprintf(f,
             "], \"median_seconds_per_step\": %.6g, \"particle_steps_per_s\": %.6g, "
             "\"pair_interactions_per_s\": %.6g,\n     \"bytes_per_particle\": %.1f, "
-            "\"bytes_per_slot\": %zu, \"memory_bytes_per_slot\": ",
+            "\"bytes_per_slot\": %zu, \"lane_list_bytes_per_particle\": %.1f, "
+            "\"memory_bytes_per_slot\": ",
             r->median_s, r->particles / r->median_s, pairs / r->median_s,
-            r->device_bytes / r->particles, r->bytes_per_slot);
+            r->device_bytes / r->particles, r->bytes_per_slot, r->lane_list_bytes / r->particles);
     write_memory_json(&r->memory, f);
     fprintf(f,
             ",\n     \"wall_s\": %.6g, \"device_s\": %.6g,\n     \"kernels\": ", r->profile.wall_s,

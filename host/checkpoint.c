@@ -257,4 +257,6 @@ void solver_checkpoint_records(struct solver *s, struct checkpoint *k, int load)
         checkpoint_fail(k, "an impossible particle count in", "solver.s->n");
     if (!k->failed)
         solver_buffers(s, k, load);
+    if (load && !k->failed) /* not saved: they follow from the grid and positions */
+        solver_lane_lists_build(s);
 }

@@ -89,6 +89,8 @@ static int solver_value(const struct solver *s, const char *name, struct arg *ou
         MEM("cell_start", s->cell_start),
         MEM("cell_end", s->cell_end),
         MEM("cell_level", s->cell_level),
+        MEM("lane_list_start", s->lane_list_start),
+        MEM("lane_list", s->lane_list),
         RAW("grid_dims", sizeof s->grid.dims4, &s->grid.dims4),
     };
     for (size_t v = 0; v < sizeof values / sizeof values[0]; ++v)
@@ -239,6 +241,19 @@ void solver_launch(struct solver *s, cl_kernel k, size_t global, size_t local)
         profile_record(k, event);
 }
 
+void solver_exclusive_scan(struct solver *s, cl_mem counts, int count, cl_mem block_totals)
+{
+    const cl_int blocks = (count + SPH_SCAN_BLOCK - 1) / SPH_SCAN_BLOCK;
+    SET_ARGS(s, s->k.bucket_block_total, MEM("bucket", counts), MEM("block_total", block_totals),
+             INT("buckets", count));
+    solver_launch(s, s->k.bucket_block_total, (size_t)blocks, 0);
+    SET_ARGS(s, s->k.bucket_block_offsets, MEM("block_total", block_totals), INT("blocks", blocks));
+    solver_launch(s, s->k.bucket_block_offsets, 1, 0);
+    SET_ARGS(s, s->k.bucket_block_scan, MEM("bucket", counts), MEM("block_total", block_totals),
+             INT("buckets", count));
+    solver_launch(s, s->k.bucket_block_scan, (size_t)blocks, 0);
+}
+
 void solver_sort_keys(struct solver *s, int buckets)
 {
     if (buckets > s->sort_bucket_capacity) {
@@ -249,22 +264,14 @@ void solver_sort_keys(struct solver *s, int buckets)
         s->sort_buckets = solver_create_buffer(s, sizeof(cl_int) * (size_t)s->sort_bucket_capacity);
         s->sort_block_totals = solver_create_buffer(s, sizeof(cl_int) * blocks);
     }
-    const cl_int zero = 0, blocks = (buckets + SPH_SCAN_BLOCK - 1) / SPH_SCAN_BLOCK;
+    const cl_int zero = 0;
     /* the gather spare (8 B or more per slot) is free until the gathers */
     SET_ARGS(s, s->k.fill_int, MEM("a", s->sort_buckets), INT("value", zero), INT("n", buckets));
     solver_launch(s, s->k.fill_int, (size_t)buckets, 0);
     SET_ARGS(s, s->k.bucket_count, MEM("keys", s->sort_keys), MEM("bucket", s->sort_buckets),
              INT("n", s->n));
     solver_launch(s, s->k.bucket_count, (size_t)s->n, 0);
-    SET_ARGS(s, s->k.bucket_block_total, MEM("bucket", s->sort_buckets),
-             MEM("block_total", s->sort_block_totals), INT("buckets", buckets));
-    solver_launch(s, s->k.bucket_block_total, (size_t)blocks, 0);
-    SET_ARGS(s, s->k.bucket_block_offsets, MEM("block_total", s->sort_block_totals),
-             INT("blocks", blocks));
-    solver_launch(s, s->k.bucket_block_offsets, 1, 0);
-    SET_ARGS(s, s->k.bucket_block_scan, MEM("bucket", s->sort_buckets),
-             MEM("block_total", s->sort_block_totals), INT("buckets", buckets));
-    solver_launch(s, s->k.bucket_block_scan, (size_t)blocks, 0);
+    solver_exclusive_scan(s, s->sort_buckets, buckets, s->sort_block_totals);
     SET_ARGS(s, s->k.bucket_scatter, MEM("keys", s->sort_keys), MEM("bucket", s->sort_buckets),
              MEM("scattered", s->gather_spare), INT("n", s->n));
     solver_launch(s, s->k.bucket_scatter, (size_t)s->n, 0);

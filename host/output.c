@@ -785,6 +785,12 @@ int output_summary(struct output *o, const struct run_summary *s)
     json_string(f, "precision", s->precision);
     json_string(f, "neighbour_loop", s->neighbour_loop);
     fprintf(f, "  \"neighbour_lanes\": %d,\n", s->neighbour_lanes);
+    fprintf(f, "  \"grid_sorts\": %ld,\n", s->grid_sorts);
+    if (s->neighbour_lanes > 1)
+        fprintf(f,
+                "  \"lane_list_candidates_per_block\": %.2f,\n  \"lane_list_bytes_per_particle\": "
+                "%.1f,\n",
+                s->lane_list_candidates, s->lane_list_bytes);
     fprintf(f, "  \"dimension\": %d,\n  \"particles\": %d,\n  \"steps\": %ld,\n", s->dimension,
             s->particles, s->steps);
     fprintf(f, "  \"bytes_per_particle\": %zu,\n", s->bytes_per_particle);

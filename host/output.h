@@ -67,8 +67,11 @@ struct history_row {
 /* The figures a run ends with (summary line and summary.json). */
 struct run_summary {
     const char *case_name, *device, *status, *message, *precision;
-    const char *neighbour_loop; /* "lanes" or "plain": the passes that ran */
-    int neighbour_lanes;        /* particles per work-item of passes 1 and 2 (SPH_LANES) */
+    const char *neighbour_loop;  /* "lanes" or "plain": the passes that ran */
+    int neighbour_lanes;         /* particles per work-item of passes 1 and 2 (SPH_LANES) */
+    long grid_sorts;             /* re-sorts of the neighbour grid by this process (rank 0) */
+    double lane_list_candidates; /* lanes: the last lists' entries per lane block */
+    double lane_list_bytes;      /* lanes: their device memory per particle, B */
     int particles, dimension;
     long steps;
     double end_time, wall_time_s, steps_per_s;

@@ -128,7 +128,8 @@ struct kernels {
     cl_kernel health;
     cl_kernel projectile_contact, projectile_advance, projectile_cavity;
     cl_kernel neighbour_reach, cell_max_level, coarser_seed, coarser_spread,
-        apply_reach; /* graded */
+        apply_reach;           /* graded */
+    cl_kernel lane_list_build; /* the lane passes' candidate lists */
 };
 
 /* The rigid projectile (host/ballistics.c, kernels/projectile.cl). */
@@ -205,6 +206,14 @@ struct solver {
     cl_mem cell_level;                      /* graded lattices: the coarsest level in each cell */
     cl_mem sort_buckets, sort_block_totals; /* the sort's counts (solver_sort_keys) */
     int sort_bucket_capacity;
+    /* the lane passes' candidates: block b's are lane_list[lane_list_start[b]
+     * .. lane_list_start[b + 1]) (solver_lane_lists_build) */
+    cl_mem lane_list_start, lane_list, lane_list_block_totals;
+    long lane_list_start_capacity, lane_list_totals_capacity,
+        lane_list_capacity;    /* ints each has room for */
+    long lane_list_entries;    /* entries of the last build */
+    long sorts;                /* grid sorts by this process since it started */
+    size_t lane_list_estimate; /* solver_lane_list_estimate of the case, B per particle */
     /* graded lattices, scratch of each sort: per cell, the levels L with a
      * coarser cell in the window a particle of level L searches (bit L) */
     cl_mem cell_coarser[2];
@@ -246,6 +255,9 @@ void solver_configure(struct solver *s, const struct sph_case *c);
 /* solver_bytes_per_particle of the case, before a scene or a device
  * exists (the registry's fields in use). */
 size_t solver_case_bytes_per_particle(const struct sph_case *c);
+/* The lane lists' device memory per particle, estimated from the case
+ * (0 for the plain loop). */
+size_t solver_lane_list_estimate(const struct sph_case *c);
 /* -D options for the program from the case. */
 void solver_build_options(const struct sph_case *c, char *options, size_t size);
 
@@ -274,7 +286,7 @@ void solver_read_reals(struct solver *s, cl_mem m, size_t count, double *out);
 size_t solver_bytes_per_particle(const struct solver *s);
 /* The same, buffer by buffer (fields by name, the gather spare, the sort
  * keys); buffers this formulation does not use are left out. */
-#define SOLVER_MAX_BUFFERS (FIELD_COUNT + 2) /* the fields, the gather spare, the keys */
+#define SOLVER_MAX_BUFFERS (FIELD_COUNT + 3) /* the fields, the gather spare, keys, lists */
 struct solver_memory {
     int count;
     const char *name[SOLVER_MAX_BUFFERS];
@@ -411,7 +423,15 @@ void solver_release_buffer(cl_mem *m);
 /* Sorts sort_keys (n of them) by their high half, every one below
  * `buckets`, then the slot (kernels/grid.cl, counting sort). */
 void solver_sort_keys(struct solver *s, int buckets);
+/* counts[0 .. count) to their exclusive prefix sum, in blocks of
+ * SPH_SCAN_BLOCK (kernels/grid.cl); block_totals holds count /
+ * SPH_SCAN_BLOCK + 1 ints. */
+void solver_exclusive_scan(struct solver *s, cl_mem counts, int count, cl_mem block_totals);
 void solver_gather_persistent(struct solver *s);
+/* The lane passes' candidate lists (kernels/lanes.cl, lane_list_build) for
+ * the grid of the last sort, or a checkpoint's; token buffers for the
+ * plain loop, which walks the cells. */
+void solver_lane_lists_build(struct solver *s);
 
 /* Health indicators (kernels/reduce.cl, health_indicators) over the real,
  * free particles. */

@@ -23,6 +23,25 @@ void solver_configure(struct solver *s, const struct sph_case *c)
     s->element_size[ELEM_VEC] = (s->dim == 2 ? 2 : 4) * r;
     s->element_size[ELEM_SYMT] = (s->dim == 2 ? 4 : 6) * r; /* kernels/common.cl's symt */
     s->element_size[ELEM_FULLT] = (s->dim == 2 ? 4 : 16) * r;
+    s->lane_list_estimate = solver_lane_list_estimate(c);
+}
+
+/* The lane lists' device memory per particle (host/step.c,
+ * solver_lane_lists_build), for the memory checks before a run: a lane
+ * block lists the particles within (1 + skin) supports of its eight, about
+ * a ball of that radius plus a spacing; a quarter more for the lists'
+ * headroom, 4 B each, shared by 8 particles. Measured on the 3-D bar (h =
+ * 1.2 dx): 195 entries per block, at most 276; the estimate takes 306. */
+size_t solver_lane_list_estimate(const struct sph_case *c)
+{
+    if (solver_lanes(c) == 1)
+        return 0;
+    const double radius =
+        sph_support_q(c->numerics.kernel) * c->numerics.h_over_dx * (1.0 + SPH_GRID_SKIN) +
+        1.0; /* in spacings */
+    const double ball =
+        c->dimension == 3 ? 4.0 / 3.0 * M_PI * pow(radius, 3) : M_PI * radius * radius;
+    return (size_t)ceil(1.25 * ball * sizeof(cl_int) / SPH_LANES_DEFAULT);
 }
 
 size_t solver_case_bytes_per_particle(const struct sph_case *c)
@@ -130,6 +149,10 @@ void solver_memory_breakdown(const struct solver *s, struct solver_memory *out)
     out->bytes[out->count++] = solver_spare_element(s);
     out->name[out->count] = "sort_keys";
     out->bytes[out->count++] = sizeof(cl_ulong);
+    if (s->lane_list_estimate) {
+        out->name[out->count] = "lane_lists (estimate)";
+        out->bytes[out->count++] = s->lane_list_estimate;
+    }
 }
 
 size_t solver_bytes_per_particle(const struct solver *s)
@@ -438,6 +461,9 @@ void solver_release_buffers(struct solver *s)
     solver_release_buffer(&s->cell_level);
     solver_release_buffer(&s->sort_buckets);
     solver_release_buffer(&s->sort_block_totals);
+    solver_release_buffer(&s->lane_list_start);
+    solver_release_buffer(&s->lane_list);
+    solver_release_buffer(&s->lane_list_block_totals);
     solver_release_buffer(&s->cell_coarser[0]);
     solver_release_buffer(&s->cell_coarser[1]);
     solver_release_buffer(&s->cell_end);

@@ -46,6 +46,7 @@ static void step_kernels(struct solver *s, int make)
         {&k->coarser_seed, s->graded ? "grid_coarser_seed" : NULL, 0},
         {&k->coarser_spread, s->graded ? "grid_coarser_spread" : NULL, 0},
         {&k->apply_reach, s->graded ? "grid_apply_reach" : NULL, 0},
+        {&k->lane_list_build, s->lanes > 1 ? "lane_list_build" : NULL, 0},
     };
     solver_kernels(s, list, (int)(sizeof list / sizeof list[0]), make);
 }
@@ -282,11 +283,65 @@ int solver_sort(struct solver *s, char *error, size_t error_size)
         cell_ranges(s);
         solver_gather_persistent(s);
         s->moved_since_sort = 0;
+        ++s->sorts;
         solver_ghosts_reindex(s);
         if (s->graded)
             graded_reach(s);
+        solver_lane_lists_build(s);
     }
     return dist_agree(failed, error, error_size);
+}
+
+/* Room for `count` ints in *m (grown by a quarter beyond need, *capacity
+ * its ints); what it held is lost. */
+static void ensure_ints(struct solver *s, cl_mem *m, long *capacity, long count)
+{
+    if (*m && count <= *capacity)
+        return;
+    solver_release_buffer(m);
+    *capacity = count + count / 4 + 16;
+    *m = solver_create_buffer(s, sizeof(cl_int) * (size_t)*capacity);
+}
+
+/* The candidates within reach_scale x the pair's support of some lane at
+ * the sort: 1 + skin in the updated form (the grid's margin: the list
+ * serves until the next sort, as the cells do), 1 in the total Lagrangian
+ * form (its reference positions never move); 1e-4 more for the rounding of
+ * the distance tests, so that the list holds every candidate a pass's test
+ * can accept. Counted, turned into first entries, written: one read-back
+ * (the total) per sort. */
+void solver_lane_lists_build(struct solver *s)
+{
+    if (s->lanes == 1) { /* the plain loop walks the cells: tokens to bind */
+        ensure_ints(s, &s->lane_list_start, &s->lane_list_start_capacity, 1);
+        ensure_ints(s, &s->lane_list, &s->lane_list_capacity, 1);
+        return;
+    }
+    const cl_int blocks = (s->n + s->lanes - 1) / s->lanes, starts = blocks + 1, zero = 0;
+    ensure_ints(s, &s->lane_list_start, &s->lane_list_start_capacity, starts);
+    ensure_ints(s, &s->lane_list_block_totals, &s->lane_list_totals_capacity,
+                starts / SPH_SCAN_BLOCK + 1);
+    ensure_ints(s, &s->lane_list, &s->lane_list_capacity, 1);
+    const int tl = s->total_lagrangian;
+    struct real_arg a_scale;
+    const double scale = (tl ? 1.0 : 1.0 + s->skin) * (1.0 + 1e-4);
+    cl_mem at = s->field[tl ? FIELD_POS0 : FIELD_POS];
+    SET_ARGS(s, s->k.fill_int, MEM("a", s->lane_list_start), INT("value", zero), INT("n", starts));
+    solver_launch(s, s->k.fill_int, (size_t)starts, 0);
+    for (int fill = 0; fill < 2; ++fill) {
+        SET_ARGS(s, s->k.lane_list_build, MEM("at", at),
+                 real_value(s, &a_scale, "reach_scale", scale), INT("fill", fill), INT("n", s->n));
+        solver_launch(s, s->k.lane_list_build, (size_t)blocks, 0);
+        if (fill || cl_failed())
+            break;
+        solver_exclusive_scan(s, s->lane_list_start, starts, s->lane_list_block_totals);
+        cl_int total = 0;
+        CL_CHECK(clEnqueueReadBuffer(s->dev->queue, s->lane_list_start, CL_TRUE,
+                                     sizeof(cl_int) * (size_t)blocks, sizeof total, &total, 0, NULL,
+                                     NULL));
+        s->lane_list_entries = total;
+        ensure_ints(s, &s->lane_list, &s->lane_list_capacity, total);
+    }
 }
 
 /* Work-items of passes 1 and 2: one per particle, or per lane block. */

@@ -131,10 +131,17 @@ static inline bool lane_live(const struct lane_block *b, int l)
     return u.s[l] != 0;
 }
 
-/* FOR_EACH_LANE_NEIGHBOUR(block, j) { ... } END_FOR_EACH_LANE_NEIGHBOUR:
- * every j in the cells within LANE_REACH of the block's box; rows of
- * cells are contiguous in the sorted order, as in FOR_EACH_NEIGHBOUR. */
-#define FOR_EACH_LANE_NEIGHBOUR(b, j)                                                              \
+/* The lane passes' grid: the cell grid (GRID_ARGS) and each block's list
+ * of candidates, lane_list[lane_list_start[b] .. lane_list_start[b + 1]),
+ * built at each sort by lane_list_build (host/step.c,
+ * solver_lane_lists_build). */
+#define LANE_GRID_ARGS                                                                             \
+    GRID_ARGS, __global const int *restrict lane_list_start, __global const int *restrict lane_list
+
+/* LANE_CELL_WALK(block, j) { ... } END_LANE_CELL_WALK: every j in the
+ * cells within LANE_REACH of the block's box, in the cells' order; rows
+ * of cells are contiguous in the sorted order, as in FOR_EACH_NEIGHBOUR. */
+#define LANE_CELL_WALK(b, j)                                                                       \
     for (int cz_ = max((b).lo.z - GRID_DZ * LANE_REACH(b), 0);                                     \
          cz_ <= min((b).hi.z + GRID_DZ * LANE_REACH(b), grid_dims.z - 1); ++cz_)                   \
         for (int cy_ = max((b).lo.y - LANE_REACH(b), 0);                                           \
@@ -145,9 +152,29 @@ static inline bool lane_live(const struct lane_block *b, int l)
                               min((b).hi.x + LANE_REACH(b), grid_dims.x - 1));                     \
             for (int j = span_.x; j < span_.y; ++j) {
 
-#define END_FOR_EACH_LANE_NEIGHBOUR                                                                \
+#define END_LANE_CELL_WALK                                                                         \
     }                                                                                              \
     }
+
+/* FOR_EACH_LANE_NEIGHBOUR(block, j) { ... } END_FOR_EACH_LANE_NEIGHBOUR:
+ * the candidates of the block's list, which are the cell walk's less those
+ * no lane could reach before the next sort, in the walk's order: the sums
+ * are the walk's to the bit (a candidate no lane reaches adds nothing).
+ * The walk tests about three times as many candidates (docs/performance.md,
+ * "The lane lists"). One particle per work-item (SPH_LANES 1, a GPU's loop)
+ * and SPH_LANE_CELL_WALK (tests/check_lane_lists.py's reference) walk the
+ * cells. */
+#if SPH_LANES == 1 || defined(SPH_LANE_CELL_WALK)
+#define FOR_EACH_LANE_NEIGHBOUR(b, j) LANE_CELL_WALK(b, j)
+#define END_FOR_EACH_LANE_NEIGHBOUR END_LANE_CELL_WALK
+#else
+#define FOR_EACH_LANE_NEIGHBOUR(b, j)                                                              \
+    for (int k_ = lane_list_start[(b).first / SPH_LANES];                                          \
+         k_ < lane_list_start[(b).first / SPH_LANES + 1]; ++k_) {                                  \
+        const int j = lane_list[k_];
+
+#define END_FOR_EACH_LANE_NEIGHBOUR }
+#endif
 
 /* x_i - x_j and its square for every lane against candidate j, and the
  * lanes for which j is a neighbour: within the support and not j itself
@@ -197,6 +224,60 @@ static inline void lane_positions(__global const vec *restrict pos, const struct
 #pragma unroll
     for (int a = 0; a < 3; ++a)
         xi[a] = SPH_SELECT((realv)LANE_FAR, xi[a], b->live);
+}
+
+/* Each lane block's candidate list (FOR_EACH_LANE_NEIGHBOUR), in two
+ * launches of one work-item per block (host/step.c,
+ * solver_lane_lists_build): with fill 0 it counts each block's candidates
+ * into lane_list_start[block], which the host turns into each block's first
+ * entry (an exclusive prefix sum); with fill 1 it writes them there. A
+ * candidate of the cell walk is kept when some lane is within reach_scale
+ * times the pair's support of it: 1 + skin in the updated form, where the
+ * list serves until the next sort (the grid's own margin: each particle
+ * moves less than skin support / 2 before it, so a pair within the support
+ * then is within (1 + skin) support now); 1 in the total Lagrangian form,
+ * whose passes test the reference positions, which never move. r = 0 is
+ * kept (the lane's own particle, or one that coincides with it now and may
+ * not later).
+ * reads: at (the positions the passes test: pos, or pos0 in the total
+ * Lagrangian form), flags, the grid; writes: lane_list_start (fill 0) or
+ * lane_list (fill 1). */
+__kernel void lane_list_build(__global const vec *restrict at, __global const int *restrict flags,
+                              GRID_ARGS, __constant const struct sph_run_params *run,
+                              const real reach_scale, __global int *restrict lane_list_start,
+                              __global int *restrict lane_list, const int fill, const int n)
+{
+    const int block = (int)get_global_id(0);
+    if (block * SPH_LANES >= n)
+        return;
+    struct lane_block b;
+    int count = 0;
+    if (lane_block_setup(&b, flags, sort_keys, grid_dims, n)) {
+        LANE_PASS_CONSTANTS;
+        realv xi[3];
+        lane_positions(at, &b, n, xi);
+        const int first = fill ? lane_list_start[block] : 0;
+        LANE_CELL_WALK(b, j)
+        {
+            LANE_PAIR_SUPPORT(b, j);
+            const vec xj = at[j];
+            realv r2 = (realv)0;
+#pragma unroll
+            for (int a = 0; a < SPH_DIM; ++a) {
+                const realv d = xi[a] - vec_get(xj, a);
+                r2 += d * d;
+            }
+            if (lanes_any(r2 < reach_scale * reach_scale * support2)) {
+                if (fill)
+                    lane_list[first + count] = j;
+                ++count;
+            }
+            (void)h;
+        }
+        END_LANE_CELL_WALK
+    }
+    if (!fill)
+        lane_list_start[block] = count;
 }
 
 /* Lane l of a tensor per lane, and the tensor of lanes. */

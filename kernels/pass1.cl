@@ -71,7 +71,7 @@ __kernel void
 pass1_velocity_gradient(__global const vec *restrict pos, __global const vec *restrict vel_half,
                         __global const real *restrict rho, __global const real *restrict mass,
                         __global const int *restrict material, __global const int *restrict flags,
-                        GRID_ARGS, __constant const struct sph_material *materials,
+                        LANE_GRID_ARGS, __constant const struct sph_material *materials,
                         __constant const struct sph_run_params *run, __global symt *restrict csph,
                         __global fullt *restrict velocity_gradient, const real dt,
                         MATERIAL_STATE_ARGS, const int n)

@@ -425,7 +425,7 @@ __kernel void pass2_momentum_energy(
     __global const symt *restrict deviatoric_stress,
     __global const symt *restrict artificial_stress, __global const symt *restrict csph,
     __global const real *restrict sound_speed, __global const fullt *restrict velocity_gradient,
-    __global const real *restrict av_alpha, __global const int *restrict flags, GRID_ARGS,
+    __global const real *restrict av_alpha, __global const int *restrict flags, LANE_GRID_ARGS,
     __constant const struct sph_run_params *run, __global vec *restrict acceleration,
     __global real *restrict energy_rate, __global real *restrict viscous_heating,
     __global vec *restrict xsph_velocity, const int n)

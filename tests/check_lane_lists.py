@@ -1,0 +1,62 @@
+#!/usr/bin/python3
+"""The lane passes' candidate lists (kernels/lanes.cl, lane_list_build)
+against the cell walk they replace: a case run as built and with
+-DSPH_LANE_CELL_WALK (the passes walk the cells around each lane block, as
+before the lists) must write the same history.csv and ballistics.csv to the
+byte. A list holds the walk's candidates that some lane could reach before
+the next sort, in the walk's order, and a candidate no lane reaches adds
+exactly zero, so the sums are the walk's bit for bit; a list that missed a
+neighbour, or a list left stale after a sort, changes the history.
+
+Fails unless the list run re-sorted (grid_sorts in summary.json at least
+MIN_SORTS: the lists were rebuilt while particles moved) and ran the lanes.
+
+usage: check_lane_lists.py SPH CASE OUT_FOLDER MIN_SORTS [sph --set arguments ...]
+"""
+import filecmp
+import json
+import os
+import subprocess
+import sys
+
+
+def run(sph, case, out, sets, options):
+    env = dict(os.environ, SPH_BUILD_OPTIONS=options)
+    cmd = [sph, "run", case, "--out", out, "--quiet"] + sets
+    proc = subprocess.run(cmd, capture_output=True, text=True, env=env)
+    sys.stdout.write(proc.stdout + proc.stderr)
+    if proc.returncode != 0:
+        sys.exit(f"check_lane_lists: the run with '{options}' exited {proc.returncode}")
+    with open(os.path.join(out, "summary.json")) as f:
+        summary = json.load(f)
+    if summary.get("neighbour_lanes") != 8:
+        sys.exit(f"FAIL: the run with '{options}' ran {summary.get('neighbour_lanes')} "
+                 "particles per work-item, not the lanes")
+    return summary
+
+
+def main():
+    if len(sys.argv) < 5:
+        sys.exit(__doc__)
+    sph, case, out, min_sorts = sys.argv[1], sys.argv[2], sys.argv[3], int(sys.argv[4])
+    sets = sys.argv[5:]
+    lists = run(sph, case, os.path.join(out, "lists"), sets, "")
+    run(sph, case, os.path.join(out, "walk"), sets, "-DSPH_LANE_CELL_WALK")
+    sorts = lists.get("grid_sorts", 0)
+    if sorts < min_sorts:
+        sys.exit(f"FAIL: the run sorted its grid {sorts} times, fewer than {min_sorts}: "
+                 "the lists were not rebuilt as particles moved")
+    compared = 0
+    for name in ("history.csv", "ballistics.csv"):
+        a, b = os.path.join(out, "lists", name), os.path.join(out, "walk", name)
+        if not os.path.exists(a) and not os.path.exists(b):
+            continue
+        if not filecmp.cmp(a, b, shallow=False):
+            sys.exit(f"FAIL: {name} differs between the lists and the cell walk")
+        compared += 1
+    print(f"check_lane_lists: {compared} file(s) identical; {sorts} sorts, "
+          f"{lists.get('lane_list_candidates_per_block', 0):.1f} candidates per lane block")
+
+
+if __name__ == "__main__":
+    main()
