@@ -148,6 +148,31 @@ def snapshot_sph(args, work):
     return os.path.join(snap, "sph"), snap
 
 
+def viscosity_of(run_folder):
+    """The artificial viscosity the run's resolved case says it ran (the
+    case's numerics block, not a setting of this script)."""
+    keys = {}
+    try:
+        with open(os.path.join(run_folder, "case.resolved.yaml")) as f:
+            inside = False
+            for line in f:
+                if line.strip() == "artificial_viscosity:":
+                    inside = True
+                elif inside and ":" in line and line.startswith("    "):
+                    k, v = line.strip().split(":", 1)
+                    keys[k] = v.strip()
+                elif inside:
+                    break
+    except OSError:
+        return "artificial viscosity (case.resolved.yaml not found)"
+    scheme = keys.get("scheme", "?")
+    if scheme in ("switch", "cullen_dehnen"):
+        return "%s viscosity, alpha %s to %s, beta %s" % (
+            scheme.replace("_", "-"), keys.get("alpha_min", "?"), keys.get("alpha", "?"),
+            keys.get("beta", "?"))
+    return "%s viscosity %s/%s" % (scheme, keys.get("alpha", "?"), keys.get("beta", "?"))
+
+
 def ours(args, dx, formulation, precision, work, snapshot):
     if snapshot is None:
         return None
@@ -208,7 +233,7 @@ def ours(args, dx, formulation, precision, work, snapshot):
     return dict(
         code="impact-sph", variant="%s, %s" % (formulation.replace("_", " "), precision),
         model="Johnson-Cook (thermal, rate), linear EOS, Wendland C2, CSPH, "
-              "Monaghan viscosity 1.5/1.5, XSPH 0.1" +
+              + viscosity_of(out) + ", XSPH 0.1" +
               (", hourglass 10" if formulation == "total_lagrangian" else ""),
         formulation=formulation, precision=precision,
         parallel="OpenCL on PoCL (%s), %d threads" % (b.get("device", "?"), args.threads),

@@ -8,7 +8,9 @@ not comparable), and the ratio old / list.
   FOLDER/{list,walk,old}_ROUND.json  sph bench --json of: the lists (this
                                      build), the same build with
                                      SPH_BUILD_OPTIONS=-DSPH_LANE_CELL_WALK,
-                                     the build before (fc8a593)
+                                     the build before (fc8a593; in
+                                     taylor3d-200k_vs_8c0dbd5/, 8c0dbd5,
+                                     before the material fast path too)
   FOLDER/vm_{...}_ROUND.log          vmstat 1 during that run
 
 usage: report.py FOLDER [--max-steal 5]
