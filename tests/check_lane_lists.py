@@ -16,17 +16,13 @@ usage: check_lane_lists.py SPH CASE OUT_FOLDER MIN_SORTS [sph --set arguments ..
 import filecmp
 import json
 import os
-import subprocess
 import sys
+
+from build_options_run import run_with_options
 
 
 def run(sph, case, out, sets, options):
-    env = dict(os.environ, SPH_BUILD_OPTIONS=options)
-    cmd = [sph, "run", case, "--out", out, "--quiet"] + sets
-    proc = subprocess.run(cmd, capture_output=True, text=True, env=env)
-    sys.stdout.write(proc.stdout + proc.stderr)
-    if proc.returncode != 0:
-        sys.exit(f"check_lane_lists: the run with '{options}' exited {proc.returncode}")
+    run_with_options(sph, case, out, sets, options, "check_lane_lists")
     with open(os.path.join(out, "summary.json")) as f:
         summary = json.load(f)
     if summary.get("neighbour_lanes") != 8:

@@ -14,22 +14,18 @@ usage: check_reach.py SPH CASE OUT_FOLDER [sph --set arguments ...]
 """
 import glob
 import os
-import subprocess
 import sys
 
 import h5py
 import numpy as np
 
+from build_options_run import run_with_options
+
 REACH_SHIFT, REACH_MASK = 12, 255  # include/sph_shared.h
 
 
 def run(sph, case, out, sets, options):
-    env = dict(os.environ, SPH_BUILD_OPTIONS=options)
-    cmd = [sph, "run", case, "--out", out, "--quiet"] + sets
-    proc = subprocess.run(cmd, capture_output=True, text=True, env=env)
-    sys.stdout.write(proc.stdout + proc.stderr)
-    if proc.returncode != 0:
-        sys.exit(f"check_reach: the run with '{options}' exited {proc.returncode}")
+    run_with_options(sph, case, out, sets, options, "check_reach")
     reaches = []
     for path in sorted(glob.glob(os.path.join(out, "snap_*.h5"))):
         with h5py.File(path, "r") as h:
