@@ -195,8 +195,7 @@ static int run_scene(struct sph_device *dev, const struct bench_scene *b,
          * place of their estimate */
         r->lane_list_bytes = s.lanes > 1
                                  ? (double)sizeof(cl_int) *
-                                       (double)(s.lane_list_capacity + s.lane_list_start_capacity +
-                                                s.lane_list_count_capacity)
+                                       (double)(s.lane_list_capacity + s.lane_list_start_capacity)
                                  : 0;
         r->device_bytes += r->lane_list_bytes - (double)s.lane_list_estimate * s.capacity;
         solver_release(&s);

@@ -261,10 +261,9 @@ static void finish_summary(struct loop *L, struct run_summary *sum)
     sum->grid_sorts = L->s->sorts;
     if (L->s->lanes > 1 && L->s->n > 0) {
         const long blocks = (L->s->n + L->s->lanes - 1) / L->s->lanes;
-        sum->lane_list_candidates = (double)solver_lane_list_entries(L->s) / (double)blocks;
+        sum->lane_list_candidates = (double)L->s->lane_list_entries / (double)blocks;
         sum->lane_list_bytes = (double)sizeof(cl_int) *
-                               (double)(L->s->lane_list_capacity + L->s->lane_list_start_capacity +
-                                        L->s->lane_list_count_capacity) /
+                               (double)(L->s->lane_list_capacity + L->s->lane_list_start_capacity) /
                                L->s->n_real;
     }
     sum->particles = L->s->n_scene;

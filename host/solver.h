@@ -128,8 +128,8 @@ struct kernels {
     cl_kernel health;
     cl_kernel projectile_contact, projectile_advance, projectile_cavity;
     cl_kernel neighbour_reach, cell_max_level, coarser_seed, coarser_spread,
-        apply_reach;                            /* graded */
-    cl_kernel lane_list_build, lane_list_rooms; /* the lane passes' candidate lists */
+        apply_reach;           /* graded */
+    cl_kernel lane_list_build; /* the lane passes' candidate lists */
 };
 
 /* The rigid projectile (host/ballistics.c, kernels/projectile.cl). */
@@ -206,13 +206,12 @@ struct solver {
     cl_mem cell_level;                      /* graded lattices: the coarsest level in each cell */
     cl_mem sort_buckets, sort_block_totals; /* the sort's counts (solver_sort_keys) */
     int sort_bucket_capacity;
-    /* the lane passes' candidates: block b's are the lane_list_count[b]
-     * entries of lane_list from lane_list_start[b], in a room that runs to
-     * lane_list_start[b + 1] (solver_lane_lists_build) */
-    cl_mem lane_list_start, lane_list_count, lane_list, lane_list_block_totals, lane_list_overflow;
-    long lane_list_start_capacity, lane_list_count_capacity, lane_list_capacity,
-        lane_list_totals_capacity, lane_list_overflow_capacity; /* ints each has room for */
-    int lane_list_room_blocks; /* blocks the rooms in lane_list_start were sized for */
+    /* the lane passes' candidates: block b's are lane_list[lane_list_start[b]
+     * .. lane_list_start[b + 1]) (solver_lane_lists_build) */
+    cl_mem lane_list_start, lane_list, lane_list_block_totals;
+    long lane_list_start_capacity, lane_list_totals_capacity,
+        lane_list_capacity;    /* ints each has room for */
+    long lane_list_entries;    /* entries of the last build */
     long sorts;                /* grid sorts by this process since it started */
     size_t lane_list_estimate; /* solver_lane_list_estimate of the case, B per particle */
     /* graded lattices, scratch of each sort: per cell, the levels L with a
@@ -433,8 +432,6 @@ void solver_gather_persistent(struct solver *s);
  * the grid of the last sort, or a checkpoint's; token buffers for the
  * plain loop, which walks the cells. */
 void solver_lane_lists_build(struct solver *s);
-/* The entries of the lane lists in use (a read-back; 0 for the plain loop). */
-long solver_lane_list_entries(struct solver *s);
 
 /* Health indicators (kernels/reduce.cl, health_indicators) over the real,
  * free particles. */

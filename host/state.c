@@ -29,11 +29,9 @@ void solver_configure(struct solver *s, const struct sph_case *c)
 /* The lane lists' device memory per particle (host/step.c,
  * solver_lane_lists_build), for the memory checks before a run: a lane
  * block lists the particles within (1 + skin) supports of its eight, about
- * a ball of that radius plus a spacing; its room is a quarter more and 8
- * (kernels/lanes.cl, lane_list_rooms), 4 B each, shared by 8 particles,
- * and a count per block. Measured on the 3-D bar (h = 1.2 dx): 195 entries
- * per block, at most 276; the estimate takes 245 entries and a room of
- * 314. */
+ * a ball of that radius plus a spacing; a quarter more for the lists'
+ * headroom, 4 B each, shared by 8 particles. Measured on the 3-D bar (h =
+ * 1.2 dx): 195 entries per block, at most 276; the estimate takes 306. */
 size_t solver_lane_list_estimate(const struct sph_case *c)
 {
     if (solver_lanes(c) == 1)
@@ -43,7 +41,7 @@ size_t solver_lane_list_estimate(const struct sph_case *c)
         1.0; /* in spacings */
     const double ball =
         c->dimension == 3 ? 4.0 / 3.0 * M_PI * pow(radius, 3) : M_PI * radius * radius;
-    return (size_t)ceil((1.25 * ball + 9.0) * sizeof(cl_int) / SPH_LANES_DEFAULT);
+    return (size_t)ceil(1.25 * ball * sizeof(cl_int) / SPH_LANES_DEFAULT);
 }
 
 size_t solver_case_bytes_per_particle(const struct sph_case *c)
@@ -464,8 +462,6 @@ void solver_release_buffers(struct solver *s)
     solver_release_buffer(&s->sort_buckets);
     solver_release_buffer(&s->sort_block_totals);
     solver_release_buffer(&s->lane_list_start);
-    solver_release_buffer(&s->lane_list_count);
-    solver_release_buffer(&s->lane_list_overflow);
     solver_release_buffer(&s->lane_list);
     solver_release_buffer(&s->lane_list_block_totals);
     solver_release_buffer(&s->cell_coarser[0]);

@@ -47,7 +47,6 @@ static void step_kernels(struct solver *s, int make)
         {&k->coarser_spread, s->graded ? "grid_coarser_spread" : NULL, 0},
         {&k->apply_reach, s->graded ? "grid_apply_reach" : NULL, 0},
         {&k->lane_list_build, s->lanes > 1 ? "lane_list_build" : NULL, 0},
-        {&k->lane_list_rooms, s->lanes > 1 ? "lane_list_rooms" : NULL, 0},
     };
     solver_kernels(s, list, (int)(sizeof list / sizeof list[0]), make);
 }
@@ -304,91 +303,45 @@ static void ensure_ints(struct solver *s, cl_mem *m, long *capacity, long count)
     *m = solver_create_buffer(s, sizeof(cl_int) * (size_t)*capacity);
 }
 
-static void lane_list_walk(struct solver *s, int fill, cl_int blocks)
-{
-    const int tl = s->total_lagrangian;
-    struct real_arg a_scale;
-    /* 1e-4 more for the rounding of the distance tests, so that the list
-     * holds every candidate a pass's test can accept */
-    const double scale = (tl ? 1.0 : 1.0 + s->skin) * (1.0 + 1e-4);
-    SET_ARGS(s, s->k.lane_list_build, MEM("at", s->field[tl ? FIELD_POS0 : FIELD_POS]),
-             real_value(s, &a_scale, "reach_scale", scale), INT("fill", fill), INT("n", s->n));
-    solver_launch(s, s->k.lane_list_build, (size_t)blocks, 0);
-}
-
-static cl_int read_int(struct solver *s, cl_mem m, size_t index)
-{
-    cl_int v = 0;
-    CL_CHECK(clEnqueueReadBuffer(s->dev->queue, m, CL_TRUE, sizeof(cl_int) * index, sizeof v, &v, 0,
-                                 NULL, NULL));
-    return v;
-}
-
-/* The lane lists (kernels/lanes.cl, lane_list_build): the candidates within
- * 1 + skin supports of a block's particles at the sort (the grid's margin:
- * the list serves until the next sort, as the cells do), the support
- * itself in the total Lagrangian form (its reference positions never
- * move). One walk per sort into the rooms the last sizing left (a quarter
- * beyond each block's count then); when a block overflows its room the
- * rooms are sized again from that walk's counts (an exclusive prefix sum)
- * and the walk repeated; with more blocks than rooms, a counting walk comes
- * first. One or two read-backs per sort (the overflow flag, the total). */
+/* The candidates within reach_scale x the pair's support of some lane at
+ * the sort: 1 + skin in the updated form (the grid's margin: the list
+ * serves until the next sort, as the cells do), 1 in the total Lagrangian
+ * form (its reference positions never move); 1e-4 more for the rounding of
+ * the distance tests, so that the list holds every candidate a pass's test
+ * can accept. Counted, turned into first entries, written: one read-back
+ * (the total) per sort. */
 void solver_lane_lists_build(struct solver *s)
 {
     if (s->lanes == 1) { /* the plain loop walks the cells: tokens to bind */
         ensure_ints(s, &s->lane_list_start, &s->lane_list_start_capacity, 1);
-        ensure_ints(s, &s->lane_list_count, &s->lane_list_count_capacity, 1);
         ensure_ints(s, &s->lane_list, &s->lane_list_capacity, 1);
         return;
     }
-    const cl_int blocks = (s->n + s->lanes - 1) / s->lanes, starts = blocks + 1, zero = 0, one = 1;
-    ensure_ints(s, &s->lane_list_count, &s->lane_list_count_capacity, blocks);
-    ensure_ints(s, &s->lane_list_overflow, &s->lane_list_overflow_capacity, 1);
-    const int into_rooms = blocks <= s->lane_list_room_blocks;
-    if (into_rooms) {
-        SET_ARGS(s, s->k.fill_int, MEM("a", s->lane_list_overflow), INT("value", zero),
-                 INT("n", one));
-        solver_launch(s, s->k.fill_int, 1, 0);
-        lane_list_walk(s, 1, blocks);
-        if (cl_failed() || !read_int(s, s->lane_list_overflow, 0))
-            return;
-    }
-    const long start_capacity = s->lane_list_start_capacity;
+    const cl_int blocks = (s->n + s->lanes - 1) / s->lanes, starts = blocks + 1, zero = 0;
     ensure_ints(s, &s->lane_list_start, &s->lane_list_start_capacity, starts);
-    if (s->lane_list_start_capacity != start_capacity || !s->lane_list_block_totals) {
-        solver_release_buffer(&s->lane_list_block_totals);
-        s->lane_list_totals_capacity = 0;
-        ensure_ints(s, &s->lane_list_block_totals, &s->lane_list_totals_capacity,
-                    s->lane_list_start_capacity / SPH_SCAN_BLOCK + 1);
-    }
+    ensure_ints(s, &s->lane_list_block_totals, &s->lane_list_totals_capacity,
+                starts / SPH_SCAN_BLOCK + 1);
     ensure_ints(s, &s->lane_list, &s->lane_list_capacity, 1);
-    if (!into_rooms) /* else the overflowing walk counted every block */
-        lane_list_walk(s, 0, blocks);
-    SET_ARGS(s, s->k.lane_list_rooms, INT("blocks", blocks));
-    solver_launch(s, s->k.lane_list_rooms, (size_t)starts, 0);
-    solver_exclusive_scan(s, s->lane_list_start, starts, s->lane_list_block_totals);
-    if (cl_failed())
-        return;
-    ensure_ints(s, &s->lane_list, &s->lane_list_capacity, read_int(s, s->lane_list_start, blocks));
-    lane_list_walk(s, 1, blocks);
-    s->lane_list_room_blocks = blocks;
-}
-
-long solver_lane_list_entries(struct solver *s)
-{
-    const long blocks = (s->n + s->lanes - 1) / s->lanes;
-    if (s->lanes == 1 || cl_failed() || blocks > s->lane_list_count_capacity)
-        return 0;
-    cl_int *count = calloc((size_t)blocks, sizeof *count);
-    long total = 0;
-    if (count) {
-        CL_CHECK(clEnqueueReadBuffer(s->dev->queue, s->lane_list_count, CL_TRUE, 0,
-                                     sizeof(cl_int) * (size_t)blocks, count, 0, NULL, NULL));
-        for (long b = 0; b < blocks && !cl_failed(); ++b)
-            total += count[b];
+    const int tl = s->total_lagrangian;
+    struct real_arg a_scale;
+    const double scale = (tl ? 1.0 : 1.0 + s->skin) * (1.0 + 1e-4);
+    cl_mem at = s->field[tl ? FIELD_POS0 : FIELD_POS];
+    SET_ARGS(s, s->k.fill_int, MEM("a", s->lane_list_start), INT("value", zero), INT("n", starts));
+    solver_launch(s, s->k.fill_int, (size_t)starts, 0);
+    for (int fill = 0; fill < 2; ++fill) {
+        SET_ARGS(s, s->k.lane_list_build, MEM("at", at),
+                 real_value(s, &a_scale, "reach_scale", scale), INT("fill", fill), INT("n", s->n));
+        solver_launch(s, s->k.lane_list_build, (size_t)blocks, 0);
+        if (fill || cl_failed())
+            break;
+        solver_exclusive_scan(s, s->lane_list_start, starts, s->lane_list_block_totals);
+        cl_int total = 0;
+        CL_CHECK(clEnqueueReadBuffer(s->dev->queue, s->lane_list_start, CL_TRUE,
+                                     sizeof(cl_int) * (size_t)blocks, sizeof total, &total, 0, NULL,
+                                     NULL));
+        s->lane_list_entries = total;
+        ensure_ints(s, &s->lane_list, &s->lane_list_capacity, total);
     }
-    free(count);
-    return total;
 }
 
 /* Work-items of passes 1 and 2: one per particle, or per lane block. */

@@ -132,12 +132,11 @@ static inline bool lane_live(const struct lane_block *b, int l)
 }
 
 /* The lane passes' grid: the cell grid (GRID_ARGS) and each block's list
- * of candidates, the lane_list_count[b] entries of lane_list from
- * lane_list_start[b] (its room runs to lane_list_start[b + 1]), built at
- * each sort by lane_list_build (host/step.c, solver_lane_lists_build). */
+ * of candidates, lane_list[lane_list_start[b] .. lane_list_start[b + 1]),
+ * built at each sort by lane_list_build (host/step.c,
+ * solver_lane_lists_build). */
 #define LANE_GRID_ARGS                                                                             \
-    GRID_ARGS, __global const int *restrict lane_list_start,                                       \
-        __global const int *restrict lane_list_count, __global const int *restrict lane_list
+    GRID_ARGS, __global const int *restrict lane_list_start, __global const int *restrict lane_list
 
 /* LANE_CELL_WALK(block, j) { ... } END_LANE_CELL_WALK: every j in the
  * cells within LANE_REACH of the block's box, in the cells' order; rows
@@ -170,9 +169,8 @@ static inline bool lane_live(const struct lane_block *b, int l)
 #define END_FOR_EACH_LANE_NEIGHBOUR END_LANE_CELL_WALK
 #else
 #define FOR_EACH_LANE_NEIGHBOUR(b, j)                                                              \
-    for (int k_ = lane_list_start[(b).first / SPH_LANES],                                          \
-             end_ = k_ + lane_list_count[(b).first / SPH_LANES];                                   \
-         k_ < end_; ++k_) {                                                                        \
+    for (int k_ = lane_list_start[(b).first / SPH_LANES];                                          \
+         k_ < lane_list_start[(b).first / SPH_LANES + 1]; ++k_) {                                  \
         const int j = lane_list[k_];
 
 #define END_FOR_EACH_LANE_NEIGHBOUR }
@@ -228,30 +226,26 @@ static inline void lane_positions(__global const vec *restrict pos, const struct
         xi[a] = SPH_SELECT((realv)LANE_FAR, xi[a], b->live);
 }
 
-/* Each lane block's candidate list (FOR_EACH_LANE_NEIGHBOUR), one
- * work-item per block (host/step.c, solver_lane_lists_build). A candidate
- * of the cell walk is kept when some lane is within reach_scale times the
- * pair's support of it: 1 + skin in the updated form, where the list serves
- * until the next sort (the grid's own margin: each particle moves less
- * than skin support / 2 before it, so a pair within the support then is
- * within (1 + skin) support now); 1 in the total Lagrangian form, whose
- * passes test the reference positions, which never move. r = 0 is kept
- * (the lane's own particle, or one that coincides with it now and may not
- * later). The block's count goes to lane_list_count; with fill set, the
- * candidates go to its room, lane_list[lane_list_start[b] ..
- * lane_list_start[b + 1]), and a block they overflow sets
- * lane_list_overflow (the host then sizes the rooms from the counts and
- * fills again).
+/* Each lane block's candidate list (FOR_EACH_LANE_NEIGHBOUR), in two
+ * launches of one work-item per block (host/step.c,
+ * solver_lane_lists_build): with fill 0 it counts each block's candidates
+ * into lane_list_start[block], which the host turns into each block's first
+ * entry (an exclusive prefix sum); with fill 1 it writes them there. A
+ * candidate of the cell walk is kept when some lane is within reach_scale
+ * times the pair's support of it: 1 + skin in the updated form, where the
+ * list serves until the next sort (the grid's own margin: each particle
+ * moves less than skin support / 2 before it, so a pair within the support
+ * then is within (1 + skin) support now); 1 in the total Lagrangian form,
+ * whose passes test the reference positions, which never move. r = 0 is
+ * kept (the lane's own particle, or one that coincides with it now and may
+ * not later).
  * reads: at (the positions the passes test: pos, or pos0 in the total
- * Lagrangian form), flags, the grid, lane_list_start; writes:
- * lane_list_count, lane_list and lane_list_overflow (fill). */
+ * Lagrangian form), flags, the grid; writes: lane_list_start (fill 0) or
+ * lane_list (fill 1). */
 __kernel void lane_list_build(__global const vec *restrict at, __global const int *restrict flags,
                               GRID_ARGS, __constant const struct sph_run_params *run,
-                              const real reach_scale, __global const int *restrict lane_list_start,
-                              __global int *restrict lane_list_count,
-                              __global int *restrict lane_list,
-                              __global int *restrict lane_list_overflow, const int fill,
-                              const int n)
+                              const real reach_scale, __global int *restrict lane_list_start,
+                              __global int *restrict lane_list, const int fill, const int n)
 {
     const int block = (int)get_global_id(0);
     if (block * SPH_LANES >= n)
@@ -262,8 +256,7 @@ __kernel void lane_list_build(__global const vec *restrict at, __global const in
         LANE_PASS_CONSTANTS;
         realv xi[3];
         lane_positions(at, &b, n, xi);
-        const int first = fill ? lane_list_start[block] : 0,
-                  room = fill ? lane_list_start[block + 1] - first : 0;
+        const int first = fill ? lane_list_start[block] : 0;
         LANE_CELL_WALK(b, j)
         {
             LANE_PAIR_SUPPORT(b, j);
@@ -275,7 +268,7 @@ __kernel void lane_list_build(__global const vec *restrict at, __global const in
                 r2 += d * d;
             }
             if (lanes_any(r2 < reach_scale * reach_scale * support2)) {
-                if (count < room)
+                if (fill)
                     lane_list[first + count] = j;
                 ++count;
             }
@@ -283,33 +276,8 @@ __kernel void lane_list_build(__global const vec *restrict at, __global const in
         }
         END_LANE_CELL_WALK
     }
-    lane_list_count[block] = count;
-    if (fill && count > lane_list_start[block + 1] - lane_list_start[block])
-        *lane_list_overflow = 1;
-}
-
-/* Each block's room: the largest count of the blocks within
- * LANE_ROOM_WINDOW of it, a quarter more and 8, so that the next sort's
- * lists fit in one walk although a changed number of ghosts or particles
- * crossing cells shift the blocks (the exclusive prefix sum then turns
- * rooms into starts; entry `blocks` is the total). On the axisymmetric
- * gelatin shot (21 sorts in 80 steps) a window of 0 overflowed at 9 sorts,
- * 1 at 2, 2 at none, for 7-10 B per particle more. reads lane_list_count;
- * writes lane_list_start. */
-#ifndef LANE_ROOM_WINDOW
-#define LANE_ROOM_WINDOW 2
-#endif
-__kernel void lane_list_rooms(__global const int *restrict lane_list_count,
-                              __global int *restrict lane_list_start, const int blocks)
-{
-    const int b = (int)get_global_id(0);
-    if (b < blocks) {
-        int widest = 0;
-        for (int k = max(b - LANE_ROOM_WINDOW, 0); k <= min(b + LANE_ROOM_WINDOW, blocks - 1); ++k)
-            widest = max(widest, lane_list_count[k]);
-        lane_list_start[b] = widest + widest / 4 + 8;
-    } else if (b == blocks)
-        lane_list_start[b] = 0;
+    if (!fill)
+        lane_list_start[block] = count;
 }
 
 /* Lane l of a tensor per lane, and the tensor of lanes. */
