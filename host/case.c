@@ -1318,6 +1318,11 @@ static const struct field numerics_fields[] = {
     ENUM("precision", struct case_numerics, double_precision, 0, 0, precision_names, NULL),
     ENUM("neighbour_loop", struct case_numerics, neighbour_loop, 0, SPH_LOOP_AUTO,
          neighbour_loop_names, NULL),
+    /* true by default: BOOL's default is false */
+    {.key = "lane_lists",
+     .kind = K_BOOL,
+     .offset = offsetof(struct case_numerics, lane_lists),
+     .def = 1},
 };
 
 static const struct field health_fields[] = {

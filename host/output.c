@@ -786,7 +786,7 @@ int output_summary(struct output *o, const struct run_summary *s)
     json_string(f, "neighbour_loop", s->neighbour_loop);
     fprintf(f, "  \"neighbour_lanes\": %d,\n", s->neighbour_lanes);
     fprintf(f, "  \"grid_sorts\": %ld,\n", s->grid_sorts);
-    if (s->neighbour_lanes > 1)
+    if (s->lane_list_candidates > 0)
         fprintf(f,
                 "  \"lane_list_candidates_per_block\": %.2f,\n  \"lane_list_bytes_per_particle\": "
                 "%.1f,\n",

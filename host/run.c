@@ -259,7 +259,7 @@ static void finish_summary(struct loop *L, struct run_summary *sum)
     sum->neighbour_loop = L->s->lanes > 1 ? "lanes" : "plain";
     sum->neighbour_lanes = L->s->lanes;
     sum->grid_sorts = L->s->sorts;
-    if (L->s->lanes > 1 && L->s->n > 0) {
+    if (L->s->lane_lists && L->s->n > 0) {
         const long blocks = (L->s->n + L->s->lanes - 1) / L->s->lanes;
         sum->lane_list_candidates = (double)L->s->lane_list_entries / (double)blocks;
         sum->lane_list_bytes = (double)sizeof(cl_int) *
@@ -735,13 +735,15 @@ static int open_run(const struct run_options *opt, struct run_resources *r, char
      * with the ghosts); a track-graded body's tube is counted by its bounding
      * box, far more than it holds, so such cases wait for the exact check */
     const double bytes = points * (double)solver_case_bytes_per_particle(c);
+    char advice[160];
+    solver_memory_advice(c, advice, sizeof advice);
     if (!scene_has_track(c) && bytes > (double)r->dev.global_memory)
         return 2 * (snprintf(error, size,
                              "the case needs about %.2f GiB of device memory (%zu bytes x %.3g "
-                             "particles) but %s has %.2f GiB; use a coarser dx (for PoCL, "
-                             "POCL_MEMORY_LIMIT=<GiB> raises the limit)",
+                             "particles) but %s has %.2f GiB; %s (for PoCL, "
+                             "POCL_MEMORY_LIMIT=<GiB> sets the limit)",
                              bytes / (1 << 30), solver_case_bytes_per_particle(c), points,
-                             r->dev.name, (double)r->dev.global_memory / (1 << 30)) > 0);
+                             r->dev.name, (double)r->dev.global_memory / (1 << 30), advice) > 0);
     if (scene_build(c, &r->scene, error, size) || projectile_check_scene(c, &r->scene, error, size))
         return 1;
     solver_choose_loop(c, &r->dev);

@@ -194,6 +194,7 @@ struct solver {
     int graded;                  /* some body has a graded lattice (SPH_GRADED) */
     int coarsest_level;          /* of the graded bodies (solver_case_coarsest_level) */
     int lanes;                   /* particles per work-item of passes 1 and 2 (solver_lanes) */
+    int lane_lists;              /* the lanes visit candidate lists (solver_uses_lane_lists) */
     int csph, artificial_stress; /* the corrections in use: their fields exist */
     int viscosity;               /* some material has a physical viscosity */
     int av_scheme;               /* enum sph_av_scheme: its fields exist */
@@ -239,6 +240,9 @@ double solver_max_sound_speed(const struct sph_case *c);
  * (graded and axisymmetric lattices too). */
 #define SPH_LANES_DEFAULT 8
 int solver_lanes(const struct sph_case *c);
+/* Whether the lane passes visit candidate lists (numerics.lane_lists) or
+ * walk the cells (kernels/lanes.cl). */
+int solver_uses_lane_lists(const struct sph_case *c);
 /* numerics.neighbour_loop auto: lanes on a CPU, plain on a GPU (whose
  * work-items want one particle each); the resolved case says which. */
 void solver_choose_loop(struct sph_case *c, const struct sph_device *dev);
@@ -258,6 +262,9 @@ size_t solver_case_bytes_per_particle(const struct sph_case *c);
 /* The lane lists' device memory per particle, estimated from the case
  * (0 for the plain loop). */
 size_t solver_lane_list_estimate(const struct sph_case *c);
+/* What to change when the case does not fit the device's memory (a
+ * sentence for the error message). */
+void solver_memory_advice(const struct sph_case *c, char *advice, size_t size);
 /* -D options for the program from the case. */
 void solver_build_options(const struct sph_case *c, char *options, size_t size);
 

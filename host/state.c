@@ -12,6 +12,7 @@ void solver_configure(struct solver *s, const struct sph_case *c)
     s->double_precision = c->numerics.double_precision;
     s->total_lagrangian = c->numerics.total_lagrangian;
     s->lanes = solver_lanes(c);
+    s->lane_lists = solver_uses_lane_lists(c);
     s->csph = c->numerics.csph;
     s->av_scheme = c->numerics.av_scheme;
     s->artificial_stress = c->numerics.as_epsilon > 0;
@@ -34,7 +35,7 @@ void solver_configure(struct solver *s, const struct sph_case *c)
  * 1.2 dx): 195 entries per block, at most 276; the estimate takes 306. */
 size_t solver_lane_list_estimate(const struct sph_case *c)
 {
-    if (solver_lanes(c) == 1)
+    if (!solver_uses_lane_lists(c))
         return 0;
     const double radius =
         sph_support_q(c->numerics.kernel) * c->numerics.h_over_dx * (1.0 + SPH_GRID_SKIN) +
@@ -78,6 +79,11 @@ int solver_lanes(const struct sph_case *c)
     return c->numerics.neighbour_loop == SPH_LOOP_PLAIN ? 1 : SPH_LANES_DEFAULT;
 }
 
+int solver_uses_lane_lists(const struct sph_case *c)
+{
+    return solver_lanes(c) > 1 && c->numerics.lane_lists;
+}
+
 void solver_build_options(const struct sph_case *c, char *options, size_t size)
 {
     const struct case_numerics *num = &c->numerics;
@@ -111,7 +117,8 @@ void solver_build_options(const struct sph_case *c, char *options, size_t size)
     const size_t used = strlen(options);
     /* SPH_BUILD_OPTIONS: kernel developers' experiments, extra -D or -cl-* options */
     const char *extra = getenv("SPH_BUILD_OPTIONS");
-    snprintf(options + used, size - used, " -DSPH_LANES=%d %s", solver_lanes(c),
+    snprintf(options + used, size - used, " -DSPH_LANES=%d%s %s", solver_lanes(c),
+             solver_lanes(c) > 1 && !num->lane_lists ? " -DSPH_LANE_CELL_WALK" : "",
              extra ? extra : "");
 }
 
@@ -379,16 +386,30 @@ static void upload_run_params(struct solver *s)
                                   NULL, NULL));
 }
 
+void solver_memory_advice(const struct sph_case *c, char *advice, size_t size)
+{
+    const size_t lists = solver_lane_list_estimate(c);
+    if (lists)
+        snprintf(advice, size,
+                 "use a coarser dx, or numerics.lane_lists: false (%zu bytes per particle less, "
+                 "slower neighbour passes)",
+                 lists);
+    else
+        snprintf(advice, size, "use a coarser dx");
+}
+
 int solver_create_buffers(struct solver *s, const struct sph_case *c, const struct sph_scene *scene,
                           char *error, size_t error_size)
 {
     const size_t total = solver_bytes_per_particle(s) * (size_t)s->capacity;
     if (total > s->dev->global_memory) {
+        char advice[160];
+        solver_memory_advice(c, advice, sizeof advice);
         snprintf(error, error_size,
                  "the case needs %.2f GiB of device memory (%zu bytes x %d particles) but %s has "
-                 "%.2f GiB; use a coarser dx (for PoCL, POCL_MEMORY_LIMIT=<GiB> raises the limit)",
+                 "%.2f GiB; %s (for PoCL, POCL_MEMORY_LIMIT=<GiB> sets the limit)",
                  (double)total / (1 << 30), solver_bytes_per_particle(s), s->capacity, s->dev->name,
-                 (double)s->dev->global_memory / (1 << 30));
+                 (double)s->dev->global_memory / (1 << 30), advice);
         return 1;
     }
     const size_t largest = largest_element(s, 0) * (size_t)s->capacity;

@@ -46,7 +46,7 @@ static void step_kernels(struct solver *s, int make)
         {&k->coarser_seed, s->graded ? "grid_coarser_seed" : NULL, 0},
         {&k->coarser_spread, s->graded ? "grid_coarser_spread" : NULL, 0},
         {&k->apply_reach, s->graded ? "grid_apply_reach" : NULL, 0},
-        {&k->lane_list_build, s->lanes > 1 ? "lane_list_build" : NULL, 0},
+        {&k->lane_list_build, s->lane_lists ? "lane_list_build" : NULL, 0},
     };
     solver_kernels(s, list, (int)(sizeof list / sizeof list[0]), make);
 }
@@ -312,7 +312,7 @@ static void ensure_ints(struct solver *s, cl_mem *m, long *capacity, long count)
  * (the total) per sort. */
 void solver_lane_lists_build(struct solver *s)
 {
-    if (s->lanes == 1) { /* the plain loop walks the cells: tokens to bind */
+    if (!s->lane_lists) { /* the passes walk the cells: tokens to bind */
         ensure_ints(s, &s->lane_list_start, &s->lane_list_start_capacity, 1);
         ensure_ints(s, &s->lane_list, &s->lane_list_capacity, 1);
         return;

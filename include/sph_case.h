@@ -181,6 +181,7 @@ struct case_numerics {
     double damping;              /* 1/s, default 0 */
     int double_precision;        /* default 0 */
     int neighbour_loop; /* enum sph_neighbour_loop; auto (default) is resolved for the device */
+    int lane_lists;     /* lanes: candidate lists per block (kernels/lanes.cl), default 1 */
 };
 
 /* A rigid plane: particles stay on the side the normal points to, their

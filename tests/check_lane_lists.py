@@ -1,15 +1,18 @@
 #!/usr/bin/python3
 """The lane passes' candidate lists (kernels/lanes.cl, lane_list_build)
 against the cell walk they replace: a case run as built and with
--DSPH_LANE_CELL_WALK (the passes walk the cells around each lane block, as
-before the lists) must write the same history.csv and ballistics.csv to the
-byte. A list holds the walk's candidates that some lane could reach before
-the next sort, in the walk's order, and a candidate no lane reaches adds
-exactly zero, so the sums are the walk's bit for bit; a list that missed a
-neighbour, or a list left stale after a sort, changes the history.
+numerics.lane_lists false (the passes walk the cells around each lane
+block, -DSPH_LANE_CELL_WALK) must write the same history.csv and
+ballistics.csv to the byte. A list holds the walk's candidates that some
+lane could reach before the next sort, in the walk's order, and a candidate
+no lane reaches adds exactly zero, so the sums are the walk's bit for bit; a
+list that missed a neighbour, or a list left stale after a sort, changes the
+history.
 
-Fails unless the list run re-sorted (grid_sorts in summary.json at least
-MIN_SORTS: the lists were rebuilt while particles moved) and ran the lanes.
+Fails unless both runs ran the lanes, only the first built lists
+(summary.json lane_list_candidates_per_block), and the first re-sorted at
+least MIN_SORTS times (grid_sorts: the lists were rebuilt while particles
+moved).
 
 usage: check_lane_lists.py SPH CASE OUT_FOLDER MIN_SORTS [sph --set arguments ...]
 """
@@ -21,13 +24,17 @@ import sys
 from build_options_run import run_with_options
 
 
-def run(sph, case, out, sets, options):
-    run_with_options(sph, case, out, sets, options, "check_lane_lists")
+def run(sph, case, out, sets, lists):
+    run_with_options(sph, case, out, sets + ["--set", f"numerics.lane_lists={lists}"], "",
+                     "check_lane_lists")
     with open(os.path.join(out, "summary.json")) as f:
         summary = json.load(f)
     if summary.get("neighbour_lanes") != 8:
-        sys.exit(f"FAIL: the run with '{options}' ran {summary.get('neighbour_lanes')} "
+        sys.exit(f"FAIL: the run with lane_lists {lists} ran {summary.get('neighbour_lanes')} "
                  "particles per work-item, not the lanes")
+    if ("lane_list_candidates_per_block" in summary) != (lists == "true"):
+        sys.exit(f"FAIL: the run with lane_lists {lists} did not do as the key says "
+                 "(lane_list_candidates_per_block in summary.json)")
     return summary
 
 
@@ -36,8 +43,8 @@ def main():
         sys.exit(__doc__)
     sph, case, out, min_sorts = sys.argv[1], sys.argv[2], sys.argv[3], int(sys.argv[4])
     sets = sys.argv[5:]
-    lists = run(sph, case, os.path.join(out, "lists"), sets, "")
-    run(sph, case, os.path.join(out, "walk"), sets, "-DSPH_LANE_CELL_WALK")
+    lists = run(sph, case, os.path.join(out, "lists"), sets, "true")
+    run(sph, case, os.path.join(out, "walk"), sets, "false")
     sorts = lists.get("grid_sorts", 0)
     if sorts < min_sorts:
         sys.exit(f"FAIL: the run sorted its grid {sorts} times, fewer than {min_sorts}: "
