@@ -260,7 +260,7 @@ void solver_configure(struct solver *s, const struct sph_case *c);
  * exists (the registry's fields in use). */
 size_t solver_case_bytes_per_particle(const struct sph_case *c);
 /* The lane lists' device memory per particle, estimated from the case
- * (0 for the plain loop). */
+ * (0 without them). */
 size_t solver_lane_list_estimate(const struct sph_case *c);
 /* What to change when the case does not fit the device's memory (a
  * sentence for the error message). */

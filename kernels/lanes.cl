@@ -162,8 +162,8 @@ static inline bool lane_live(const struct lane_block *b, int l)
  * are the walk's to the bit (a candidate no lane reaches adds nothing).
  * The walk tests about three times as many candidates (docs/performance.md,
  * "The lane lists"). One particle per work-item (SPH_LANES 1, a GPU's loop)
- * and SPH_LANE_CELL_WALK (tests/check_lane_lists.py's reference) walk the
- * cells. */
+ * and SPH_LANE_CELL_WALK (numerics.lane_lists false, host/state.c; the
+ * reference of tests/check_lane_lists.py) walk the cells. */
 #if SPH_LANES == 1 || defined(SPH_LANE_CELL_WALK)
 #define FOR_EACH_LANE_NEIGHBOUR(b, j) LANE_CELL_WALK(b, j)
 #define END_FOR_EACH_LANE_NEIGHBOUR END_LANE_CELL_WALK
