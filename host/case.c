@@ -114,6 +114,7 @@ static const char *const quantity_names[] = {"displacement_x", "displacement_y",
 static const char *const precision_names[] = {"float", "double", NULL};
 static const char *const as_weight_names[] = {"relative", "lattice", NULL};
 static const char *const neighbour_loop_names[] = {"lanes", "plain", "auto", NULL};
+static const char *const lane_lists_names[] = {"false", "true", "auto", NULL};
 static const char *const formulation_names[] = {"updated_lagrangian", "total_lagrangian", NULL};
 static const char *const av_scheme_names[] = {"monaghan", "limited", "switch", "cullen_dehnen",
                                               NULL};
@@ -1318,11 +1319,8 @@ static const struct field numerics_fields[] = {
     ENUM("precision", struct case_numerics, double_precision, 0, 0, precision_names, NULL),
     ENUM("neighbour_loop", struct case_numerics, neighbour_loop, 0, SPH_LOOP_AUTO,
          neighbour_loop_names, NULL),
-    /* true by default: BOOL's default is false */
-    {.key = "lane_lists",
-     .kind = K_BOOL,
-     .offset = offsetof(struct case_numerics, lane_lists),
-     .def = 1},
+    ENUM("lane_lists", struct case_numerics, lane_lists, 0, SPH_LANE_LISTS_AUTO, lane_lists_names,
+         NULL),
 };
 
 static const struct field health_fields[] = {

@@ -260,11 +260,9 @@ static void finish_summary(struct loop *L, struct run_summary *sum)
     sum->neighbour_lanes = L->s->lanes;
     sum->grid_sorts = L->s->sorts;
     if (L->s->lane_lists && L->s->n > 0) {
-        const long blocks = (L->s->n + L->s->lanes - 1) / L->s->lanes;
-        sum->lane_list_candidates = (double)L->s->lane_list_entries / (double)blocks;
-        sum->lane_list_bytes = (double)sizeof(cl_int) *
-                               (double)(L->s->lane_list_capacity + L->s->lane_list_start_capacity) /
-                               L->s->n_real;
+        sum->lane_list_candidates =
+            (double)L->s->lane_list_entries / (double)solver_lane_blocks(L->s);
+        sum->lane_list_bytes = (double)solver_lane_list_bytes(L->s) / L->s->n_real;
     }
     sum->particles = L->s->n_scene;
     sum->dimension = L->c->dimension;
@@ -734,6 +732,7 @@ static int open_run(const struct run_options *opt, struct run_resources *r, char
      * bodies to within a few per cent (solver_create checks the exact need
      * with the ghosts); a track-graded body's tube is counted by its bounding
      * box, far more than it holds, so such cases wait for the exact check */
+    solver_choose_lane_lists(c, points, (double)r->dev.global_memory, opt->quiet);
     const double bytes = points * (double)solver_case_bytes_per_particle(c);
     char advice[160];
     solver_memory_advice(c, advice, sizeof advice);

@@ -243,6 +243,9 @@ int solver_lanes(const struct sph_case *c);
 /* Whether the lane passes visit candidate lists (numerics.lane_lists) or
  * walk the cells (kernels/lanes.cl). */
 int solver_uses_lane_lists(const struct sph_case *c);
+/* numerics.lane_lists auto: true, unless `particles` fit `device_bytes`
+ * only without the lists (said on stderr unless quiet). */
+void solver_choose_lane_lists(struct sph_case *c, double particles, double device_bytes, int quiet);
 /* numerics.neighbour_loop auto: lanes on a CPU, plain on a GPU (whose
  * work-items want one particle each); the resolved case says which. */
 void solver_choose_loop(struct sph_case *c, const struct sph_device *dev);
@@ -439,6 +442,10 @@ void solver_gather_persistent(struct solver *s);
  * the grid of the last sort, or a checkpoint's; token buffers for the
  * plain loop, which walks the cells. */
 void solver_lane_lists_build(struct solver *s);
+/* Work-items of the lane passes: particle slots over SPH_LANES, rounded up. */
+long solver_lane_blocks(const struct solver *s);
+/* The lane lists' device memory as allocated, B (0 without them). */
+size_t solver_lane_list_bytes(const struct solver *s);
 
 /* Health indicators (kernels/reduce.cl, health_indicators) over the real,
  * free particles. */

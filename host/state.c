@@ -81,7 +81,25 @@ int solver_lanes(const struct sph_case *c)
 
 int solver_uses_lane_lists(const struct sph_case *c)
 {
-    return solver_lanes(c) > 1 && c->numerics.lane_lists;
+    return solver_lanes(c) > 1 && c->numerics.lane_lists != 0; /* auto unresolved: with */
+}
+
+void solver_choose_lane_lists(struct sph_case *c, double particles, double device_bytes, int quiet)
+{
+    if (c->numerics.lane_lists != SPH_LANE_LISTS_AUTO)
+        return;
+    c->numerics.lane_lists = 1;
+    const double with = particles * (double)solver_case_bytes_per_particle(c),
+                 without = with - particles * (double)solver_lane_list_estimate(c);
+    if (with > device_bytes && without <= device_bytes) {
+        c->numerics.lane_lists = 0;
+        if (!quiet)
+            fprintf(stderr,
+                    "sph: numerics.lane_lists auto: without the lane lists (%.2f GiB with them, "
+                    "%.2f GiB without, the device has %.2f GiB): the neighbour passes walk the "
+                    "cells, the same results, slower\n",
+                    with / (1 << 30), without / (1 << 30), device_bytes / (1 << 30));
+    }
 }
 
 void solver_build_options(const struct sph_case *c, char *options, size_t size)
@@ -118,7 +136,7 @@ void solver_build_options(const struct sph_case *c, char *options, size_t size)
     /* SPH_BUILD_OPTIONS: kernel developers' experiments, extra -D or -cl-* options */
     const char *extra = getenv("SPH_BUILD_OPTIONS");
     snprintf(options + used, size - used, " -DSPH_LANES=%d%s %s", solver_lanes(c),
-             solver_lanes(c) > 1 && !num->lane_lists ? " -DSPH_LANE_CELL_WALK" : "",
+             solver_lanes(c) > 1 && !solver_uses_lane_lists(c) ? " -DSPH_LANE_CELL_WALK" : "",
              extra ? extra : "");
 }
 

@@ -317,7 +317,7 @@ void solver_lane_lists_build(struct solver *s)
         ensure_ints(s, &s->lane_list, &s->lane_list_capacity, 1);
         return;
     }
-    const cl_int blocks = (s->n + s->lanes - 1) / s->lanes, starts = blocks + 1, zero = 0;
+    const cl_int blocks = (cl_int)solver_lane_blocks(s), starts = blocks + 1, zero = 0;
     ensure_ints(s, &s->lane_list_start, &s->lane_list_start_capacity, starts);
     ensure_ints(s, &s->lane_list_block_totals, &s->lane_list_totals_capacity,
                 starts / SPH_SCAN_BLOCK + 1);
@@ -344,10 +344,23 @@ void solver_lane_lists_build(struct solver *s)
     }
 }
 
+long solver_lane_blocks(const struct solver *s)
+{
+    return ((long)s->n + s->lanes - 1) / s->lanes;
+}
+
+size_t solver_lane_list_bytes(const struct solver *s)
+{
+    return s->lane_lists
+               ? sizeof(cl_int) * (size_t)(s->lane_list_capacity + s->lane_list_start_capacity +
+                                           s->lane_list_totals_capacity)
+               : 0;
+}
+
 /* Work-items of passes 1 and 2: one per particle, or per lane block. */
 static size_t pass_items(const struct solver *s)
 {
-    return ((size_t)s->n + (size_t)s->lanes - 1) / (size_t)s->lanes;
+    return (size_t)solver_lane_blocks(s);
 }
 
 /* Pass 1 and, particle by particle at its end, the material update. */

@@ -161,6 +161,8 @@ enum sph_av_scheme {
     SPH_AV_CULLEN_DEHNEN = 3 /* per-particle alpha driven by the rate of compression */
 };
 
+#define SPH_LANE_LISTS_AUTO 2 /* numerics.lane_lists: auto */
+
 struct case_numerics {
     double dx;                   /* lattice spacing, m, required */
     enum sph_kernel_type kernel; /* default wendland_c2 */
@@ -181,7 +183,8 @@ struct case_numerics {
     double damping;              /* 1/s, default 0 */
     int double_precision;        /* default 0 */
     int neighbour_loop; /* enum sph_neighbour_loop; auto (default) is resolved for the device */
-    int lane_lists;     /* lanes: candidate lists per block (kernels/lanes.cl), default 1 */
+    int lane_lists;     /* lanes: candidate lists per block (kernels/lanes.cl): 0 false, 1 true,
+                           SPH_LANE_LISTS_AUTO (default: true where the case fits with them) */
 };
 
 /* A rigid plane: particles stay on the side the normal points to, their

@@ -17,6 +17,7 @@
 #include <cmocka.h>
 
 #include "sph_case.h"
+#include "solver.h"
 
 #ifndef SPH_SOURCE_DIR
 #define SPH_SOURCE_DIR "."
@@ -739,6 +740,38 @@ static void test_set_alias_bomb(void **state)
     assert_non_null(strstr(error, "value expands to more than"));
 }
 
+/* numerics.lane_lists auto (host/state.c, solver_choose_lane_lists): the
+ * lists where the case fits with them, none where it fits only without
+ * them, and the lists kept where it fits neither way (the memory check
+ * then refuses it and names the key). */
+static void lane_lists_for(double particles, double device_bytes, int expected)
+{
+    struct sph_case c;
+    char error[512];
+    assert_int_equal(
+        case_load(SPH_SOURCE_DIR "/cases/gelatin_silica_3d.yaml", 0, NULL, &c, error, sizeof error),
+        0);
+    assert_int_equal(c.numerics.lane_lists, SPH_LANE_LISTS_AUTO);
+    solver_choose_lane_lists(&c, particles, device_bytes, 1);
+    assert_int_equal(c.numerics.lane_lists, expected);
+}
+
+static void test_lane_lists_auto(void **state)
+{
+    (void)state;
+    struct sph_case c;
+    char error[512];
+    assert_int_equal(
+        case_load(SPH_SOURCE_DIR "/cases/gelatin_silica_3d.yaml", 0, NULL, &c, error, sizeof error),
+        0);
+    const double with = (double)solver_case_bytes_per_particle(&c),
+                 lists = (double)solver_lane_list_estimate(&c), n = 1e7;
+    assert_true(lists > 0 && lists < with);
+    lane_lists_for(n, 2 * n * with, 1);
+    lane_lists_for(n, n * (with - 0.5 * lists), 0);
+    lane_lists_for(n, 0.5 * n * (with - lists), 1);
+}
+
 int main(void)
 {
     struct CMUnitTest tests[64] = {
@@ -750,6 +783,7 @@ int main(void)
         cmocka_unit_test(test_round_trip_3d),      cmocka_unit_test(test_round_trip_minimal),
         cmocka_unit_test(test_float_range),        cmocka_unit_test(test_wall_normal_scaled),
         cmocka_unit_test(test_set_alias_bomb),     cmocka_unit_test(test_round_trip_oblique_wall),
+        cmocka_unit_test(test_lane_lists_auto),
     };
     int n = 16;
     const int bad = (int)(sizeof bad_inputs / sizeof *bad_inputs);

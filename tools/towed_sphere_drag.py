@@ -94,13 +94,17 @@ def main():
         sys.exit(f"towed_sphere_drag: Cd / Cd_ref {ratios} outside [{args.check[0]}, "
                  f"{args.check[1]}]")
     if args.min_stick_ratio:
-        for (re, n, contact), cd in by_contact.items():
-            free = by_contact.get((re, n, "free_slip"))
-            if contact == "no_slip" and free:
-                print(f"Re {re:g}, d/dx {n:g}: no-slip Cd / free-slip Cd = {cd / free:.3f}")
-                if cd / free < args.min_stick_ratio:
-                    sys.exit(f"towed_sphere_drag: no-slip Cd {cd:.4f} is less than "
-                             f"{args.min_stick_ratio} times the free-slip {free:.4f}")
+        pairs = [(key, cd) for key, cd in by_contact.items()
+                 if key[2] == "no_slip" and (key[0], key[1], "free_slip") in by_contact]
+        if not pairs:
+            sys.exit("towed_sphere_drag: --min-stick-ratio needs runs with both contacts "
+                     "(--contact no_slip free_slip)")
+        for (re, n, _), cd in pairs:
+            free = by_contact[(re, n, "free_slip")]
+            print(f"Re {re:g}, d/dx {n:g}: no-slip Cd / free-slip Cd = {cd / free:.3f}")
+            if cd / free < args.min_stick_ratio:
+                sys.exit(f"towed_sphere_drag: no-slip Cd {cd:.4f} is less than "
+                         f"{args.min_stick_ratio} times the free-slip {free:.4f}")
 
 
 if __name__ == "__main__":
