@@ -248,7 +248,7 @@ __kernel void lane_list_build(__global const vec *restrict at, __global const in
                               __global int *restrict lane_list, const int fill, const int n)
 {
     const int block = (int)get_global_id(0);
-    if (block * SPH_LANES >= n)
+    if (block * SPH_LANES >= n) /* the launch rounds up: no entry of this block */
         return;
     struct lane_block b;
     int count = 0;
