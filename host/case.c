@@ -120,6 +120,7 @@ static const char *const av_scheme_names[] = {"monaghan", "limited", "switch", "
                                               NULL};
 static const char *const motion_names[] = {"free", "prescribed", NULL};
 static const char *const contact_names[] = {"free_slip", "no_slip", NULL};
+static const char *const boundary_names[] = {"penalty", "integral", NULL};
 static const char *const ref_nouns[] = {"material", "body", "group"};
 
 /* ---- errors ------------------------------------------------------------ */
@@ -1363,6 +1364,7 @@ static const struct field projectile_fields[] = {
         SPH_MAX_CAVITY_PROBES, SPH_MAX_CAVITY_PROBES, NULL),
     ENUM("motion", struct case_projectile, prescribed, 0, 0, motion_names, NULL),
     ENUM("contact", struct case_projectile, no_slip, 0, 0, contact_names, NULL),
+    ENUM("boundary", struct case_projectile, boundary_integral, 0, 0, boundary_names, NULL),
     BOOL("embedded", struct case_projectile, embedded),
 };
 

@@ -91,6 +91,7 @@ static int solver_value(const struct solver *s, const char *name, struct arg *ou
         MEM("cell_level", s->cell_level),
         MEM("lane_list_start", s->lane_list_start),
         MEM("lane_list", s->lane_list),
+        MEM("projectile_state", s->projectile.state),
         RAW("grid_dims", sizeof s->grid.dims4, &s->grid.dims4),
     };
     for (size_t v = 0; v < sizeof values / sizeof values[0]; ++v)

@@ -135,8 +135,9 @@ void solver_build_options(const struct sph_case *c, char *options, size_t size)
     const size_t used = strlen(options);
     /* SPH_BUILD_OPTIONS: kernel developers' experiments, extra -D or -cl-* options */
     const char *extra = getenv("SPH_BUILD_OPTIONS");
-    snprintf(options + used, size - used, " -DSPH_LANES=%d%s %s", solver_lanes(c),
+    snprintf(options + used, size - used, " -DSPH_LANES=%d%s%s %s", solver_lanes(c),
              solver_lanes(c) > 1 && !solver_uses_lane_lists(c) ? " -DSPH_LANE_CELL_WALK" : "",
+             c->projectile.enabled && c->projectile.boundary_integral ? " -DSPH_SPHERE_WALL" : "",
              extra ? extra : "");
 }
 

@@ -90,6 +90,7 @@ static void fill_run_params(struct solver *s, const struct sph_case *c)
     s->run.velocity_limit = (real)(10.0 * c_max + 2.0 * v0);
     s->run.hourglass = (real)num->hourglass;
     s->run.axis_radius = (real)(0.25 * num->dx);
+    s->run.sphere_radius = (real)(c->projectile.enabled ? 0.5 * c->projectile.diameter : 0.0);
     s->run.as_exponent = num->as_exponent;
     s->run.material_count = c->material_count;
 }

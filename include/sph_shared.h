@@ -188,6 +188,7 @@ struct sph_run_params {
     real velocity_limit; /* |v| above this marks a particle bad, m/s */
     real hourglass;      /* total Lagrangian hourglass control coefficient alpha */
     real axis_radius;    /* axisymmetric: smallest radius the 1/r terms use, dx / 4, m */
+    real sphere_radius;  /* the rigid projectile's radius R, m (0 without one) */
     sph_int as_exponent; /* n in f_ij^n */
     sph_int material_count;
 };

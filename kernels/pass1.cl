@@ -74,7 +74,11 @@ pass1_velocity_gradient(__global const vec *restrict pos, __global const vec *re
                         LANE_GRID_ARGS, __constant const struct sph_material *materials,
                         __constant const struct sph_run_params *run, __global symt *restrict csph,
                         __global fullt *restrict velocity_gradient, const real dt,
-                        MATERIAL_STATE_ARGS, const int n)
+                        MATERIAL_STATE_ARGS,
+#ifdef SPH_SPHERE_WALL
+                        __global const real *restrict projectile_state,
+#endif
+                        const int n)
 {
     struct lane_block b;
     if (!lane_block_setup(&b, flags, sort_keys, grid_dims, n))
@@ -117,6 +121,10 @@ pass1_velocity_gradient(__global const vec *restrict pos, __global const vec *re
         real gv[3][3], m[3][3];
         tensor_lane(grad_v, l, gv);
         tensor_lane(moment, l, m);
+#ifdef SPH_SPHERE_WALL
+        sphere_wall_pass1(b.first + l, gv, m, pos, vel_half, flags, deviatoric_stress, pressure,
+                          projectile_state, run);
+#endif
         pass1_finish(b.first + l, gv, m, rho, material, flags, materials, run, csph,
                      velocity_gradient, dt, pos, vel_half, MATERIAL_STATE);
     }

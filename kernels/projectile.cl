@@ -56,7 +56,13 @@ projectile_contact(__global const vec *restrict pos, __global const vec *restric
                    __global const int *restrict flags, __global vec *restrict acceleration,
                    __global const real *restrict state, const real radius,
                    const real stiffness_speed, const real dx, const real dt, const real dt_prev,
-                   const int no_slip, __global real *restrict partials, const int n)
+                   const int no_slip,
+#ifdef SPH_SPHERE_WALL
+                   __global const symt *restrict deviatoric_stress,
+                   __global const real *restrict pressure, __global const real *restrict rho,
+                   __global const symt *restrict csph, __constant const struct sph_run_params *run,
+#endif
+                   __global real *restrict partials, const int n)
 {
     __local real acc[REDUCE_WG][SPH_CONTACT_SLOTS];
     real mine[SPH_CONTACT_SLOTS];
@@ -72,6 +78,21 @@ projectile_contact(__global const vec *restrict pos, __global const vec *restric
         if (flag & (SPH_FLAG_GHOST | SPH_FLAG_FIXED))
             continue;
         const real dx_i = dx * spacing_scale(flag);
+#ifdef SPH_SPHERE_WALL
+        {
+            real defect;
+            const vec a_wall = sphere_wall_acceleration(i, pos, vel, flags, deviatoric_stress,
+                                                        pressure, rho, csph, state, run, &defect);
+            acceleration[i] += a_wall;
+            const real m = mass[i];
+            mine[SPH_CONTACT_FX] += m * a_wall.x;
+            mine[SPH_CONTACT_FX + 1] += m * a_wall.y;
+#if SPH_DIM == 3
+            mine[SPH_CONTACT_FX + 2] += m * a_wall.z;
+#endif
+            mine[SPH_CONTACT_DISSIPATION] -= m * defect;
+        }
+#endif
         const vec d = pos[i] - centre;
         const real distance = length(d);
         const real depth = radius - (real)SPH_CONTACT_INSET * dx_i - distance;
