@@ -44,6 +44,16 @@
 #define SPH_CONTACT_INSET 0.5
 #endif
 
+/* A particle's contact force m a, into its work-item's partial sums. */
+static inline void contact_add_force(real mine[SPH_CONTACT_SLOTS], real m, vec a)
+{
+    mine[SPH_CONTACT_FX] += m * a.x;
+    mine[SPH_CONTACT_FX + 1] += m * a.y;
+#if SPH_DIM == 3
+    mine[SPH_CONTACT_FX + 2] += m * a.z;
+#endif
+}
+
 /* reads pos, vel, vel_half, mass, flags, state; updates acceleration; writes
  * contact partials. With no_slip (projectile.contact) the contact also
  * sticks the particle to the sphere's surface tangentially; the sphere
@@ -84,13 +94,8 @@ projectile_contact(__global const vec *restrict pos, __global const vec *restric
             const vec a_wall = sphere_wall_acceleration(i, pos, vel, flags, deviatoric_stress,
                                                         pressure, rho, csph, state, run, &defect);
             acceleration[i] += a_wall;
-            const real m = mass[i];
-            mine[SPH_CONTACT_FX] += m * a_wall.x;
-            mine[SPH_CONTACT_FX + 1] += m * a_wall.y;
-#if SPH_DIM == 3
-            mine[SPH_CONTACT_FX + 2] += m * a_wall.z;
-#endif
-            mine[SPH_CONTACT_DISSIPATION] -= m * defect;
+            contact_add_force(mine, mass[i], a_wall);
+            mine[SPH_CONTACT_DISSIPATION] -= mass[i] * defect;
         }
 #endif
         const vec d = pos[i] - centre;
@@ -120,11 +125,7 @@ projectile_contact(__global const vec *restrict pos, __global const vec *restric
         }
         acceleration[i] += a;
         const real m = mass[i];
-        mine[SPH_CONTACT_FX] += m * a.x;
-        mine[SPH_CONTACT_FX + 1] += m * a.y;
-#if SPH_DIM == 3
-        mine[SPH_CONTACT_FX + 2] += m * a.z;
-#endif
+        contact_add_force(mine, m, a);
         mine[SPH_CONTACT_ENERGY] += (real)0.5 * m * spring * depth;
         mine[SPH_CONTACT_COUNT] += 1;
         /* the damper's work over this step: the particle drifts with

@@ -177,6 +177,34 @@ static inline real sphere_wall_geometry(__global const real *restrict state, vec
     return d;
 }
 
+/* What both wall terms need of particle i: its distance d from the
+ * sphere's centre, the outward normal n, the sphere's velocity, the
+ * closing speed (V - v_i).n, n.sigma_i.n, and whether i is in contact. */
+struct sphere_wall_particle {
+    real d, n[3], sphere_v[3], closing, normal_stress, h;
+    int contact;
+};
+
+static inline struct sphere_wall_particle
+sphere_wall_particle(int i, __global const vec *restrict pos, __global const vec *restrict vel,
+                     __global const int *restrict flags,
+                     __global const symt *restrict deviatoric_stress,
+                     __global const real *restrict pressure, __global const real *restrict state,
+                     __constant const struct sph_run_params *run)
+{
+    struct sphere_wall_particle p;
+    p.d = sphere_wall_geometry(state, pos[i], p.n, p.sphere_v);
+    p.h = run->h * spacing_scale(flags[i]);
+    const vec v = vel[i];
+    p.closing = 0;
+    for (int a = 0; a < SPH_DIM; ++a)
+        p.closing += (p.sphere_v[a] - vec_get(v, a)) * p.n[a];
+    p.normal_stress = sphere_wall_normal_stress(deviatoric_stress[i], pressure[i], p.n);
+    p.contact = sphere_wall_contact(p.d, run->sphere_radius, sph_kernel_support_q(SPH_KERNEL) * p.h,
+                                    p.normal_stress, p.closing);
+    return p;
+}
+
 /* Pass 1's wall terms for particle i (above): the moment matrix's M and the
  * velocity gradient's wall motion, before the CSPH inverse. */
 static inline void sphere_wall_pass1(
@@ -185,24 +213,17 @@ static inline void sphere_wall_pass1(
     __global const symt *restrict deviatoric_stress, __global const real *restrict pressure,
     __global const real *restrict projectile_state, __constant const struct sph_run_params *run)
 {
-    real n[3], sphere_v[3];
-    const real d = sphere_wall_geometry(projectile_state, pos[i], n, sphere_v);
-    const real h = run->h * spacing_scale(flags[i]);
-    const real radius = run->sphere_radius;
-    const vec v = vel[i];
-    real closing = 0;
-    for (int a = 0; a < SPH_DIM; ++a)
-        closing += (sphere_v[a] - vec_get(v, a)) * n[a];
-    const real normal_stress = sphere_wall_normal_stress(deviatoric_stress[i], pressure[i], n);
-    if (!sphere_wall_contact(d, radius, sph_kernel_support_q(SPH_KERNEL) * h, normal_stress,
-                             closing))
+    const struct sphere_wall_particle p = sphere_wall_particle(
+        i, pos, vel, flags, deviatoric_stress, pressure, projectile_state, run);
+    if (!p.contact)
         return;
-    const struct sphere_wall_moments m = sphere_wall_integrals(SPH_KERNEL, SPH_DIM, d, radius, h);
+    const struct sphere_wall_moments m =
+        sphere_wall_integrals(SPH_KERNEL, SPH_DIM, p.d, run->sphere_radius, p.h);
     for (int a = 0; a < SPH_DIM; ++a)
         for (int b = 0; b < SPH_DIM; ++b) {
-            const real nn = n[a] * n[b];
+            const real nn = p.n[a] * p.n[b];
             moment[a][b] += m.normal * nn + m.tangent * ((a == b ? (real)1 : (real)0) - nn);
-            grad_v[a][b] += (real)SPH_SPHERE_WALL_IMAGE * closing * m.dphi * nn;
+            grad_v[a][b] += (real)SPH_SPHERE_WALL_IMAGE * p.closing * m.dphi * nn;
         }
 }
 
@@ -219,20 +240,15 @@ sphere_wall_acceleration(int i, __global const vec *restrict pos, __global const
                          __constant const struct sph_run_params *run, real *defect)
 {
     *defect = 0;
-    real n[3], sphere_v[3];
-    const real d = sphere_wall_geometry(state, pos[i], n, sphere_v);
-    const real h = run->h * spacing_scale(flags[i]);
-    const real radius = run->sphere_radius;
-    const vec v = vel[i];
-    real closing = 0;
-    for (int a = 0; a < SPH_DIM; ++a)
-        closing += (sphere_v[a] - vec_get(v, a)) * n[a];
-    const real normal_stress = sphere_wall_normal_stress(deviatoric_stress[i], pressure[i], n);
+    const struct sphere_wall_particle p =
+        sphere_wall_particle(i, pos, vel, flags, deviatoric_stress, pressure, state, run);
     /* never a pull: the force needs the normal stress compressive */
-    if (normal_stress >= 0 || !sphere_wall_contact(d, radius, sph_kernel_support_q(SPH_KERNEL) * h,
-                                                   normal_stress, closing))
+    if (p.normal_stress >= 0 || !p.contact)
         return VEC_ZERO;
-    const struct sphere_wall_moments m = sphere_wall_integrals(SPH_KERNEL, SPH_DIM, d, radius, h);
+    const struct sphere_wall_moments m =
+        sphere_wall_integrals(SPH_KERNEL, SPH_DIM, p.d, run->sphere_radius, p.h);
+    const real *n = p.n, normal_stress = p.normal_stress, closing = p.closing;
+    const vec v = vel[i];
     real c[3][3], s[3][3];
 #ifdef SPH_CSPH
     symt_load(csph[i], c);
@@ -273,7 +289,7 @@ sphere_wall_acceleration(int i, __global const vec *restrict pos, __global const
      * what the pair creates (the ledger counts minus it as dissipated) */
     real relative_power = 0;
     for (int a = 0; a < SPH_DIM; ++a)
-        relative_power += acc[a] * (vec_get(v, a) - sphere_v[a]);
+        relative_power += acc[a] * (vec_get(v, a) - p.sphere_v[a]);
     *defect = relative_power + (real)SPH_SPHERE_WALL_IMAGE * inv_rho * closing * sn_w;
     return vec_make(acc[0], acc[1], acc[2]);
 }
