@@ -140,8 +140,8 @@ struct case_projectile {
     int cavity_probe_count;      /* probe depths k spacing, k = 1..count; default 8 */
     int prescribed;              /* motion: 0 free (default), 1 held at `velocity` */
     int no_slip;                 /* contact: 0 free_slip (default), 1 no_slip */
-    int boundary_integral; /* boundary: 0 penalty (default), 1 integral (kernels/sphere_wall.cl) */
-    int embedded;          /* start inside the target: its particles there are removed */
+    int boundary_integral;       /* boundary: 0 penalty (default), 1 integral */
+    int embedded;                /* start inside the target: its particles there are removed */
 };
 
 /* A named group of particles: those of `body` (or any body if body < 0)

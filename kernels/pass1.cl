@@ -18,7 +18,11 @@
  * With SPH_AV_LIMITED the (corrected) L_i is also stored, for pass 2's
  * reconstruction of the pair velocity jump (pass2.cl).
  *
- * reads: pos, vel_half, rho, mass, material, flags, energy_rate;
+ * With SPH_SPHERE_WALL (projectile.boundary: integral) a particle near the
+ * rigid sphere also gets the sphere's share of its sums (sphere_wall.cl).
+ *
+ * reads: pos, vel_half, rho, mass, material, flags, energy_rate (and with
+ * SPH_SPHERE_WALL projectile_state, deviatoric_stress, pressure);
  * writes: csph, velocity_gradient (SPH_AV_LIMITED); updates: the material
  * state (MATERIAL_STATE_ARGS, the switch viscosity's av_alpha with it).
  */

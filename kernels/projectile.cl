@@ -54,7 +54,9 @@ static inline void contact_add_force(real mine[SPH_CONTACT_SLOTS], real m, vec a
 #endif
 }
 
-/* reads pos, vel, vel_half, mass, flags, state; updates acceleration; writes
+/* reads pos, vel, vel_half, mass, flags, state (and with SPH_SPHERE_WALL,
+ * projectile.boundary: integral, deviatoric_stress, pressure, rho, csph
+ * for the wall's force, sphere_wall.cl); updates acceleration; writes
  * contact partials. With no_slip (projectile.contact) the contact also
  * sticks the particle to the sphere's surface tangentially; the sphere
  * does not rotate (it has no angular velocity), so the stick's torque is
