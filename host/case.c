@@ -1020,6 +1020,10 @@ static int check_projectile(struct ctx *x, const struct frame *fr, void *base)
         return fail(x, line_of(fr, p->centre[0] != 0 ? "centre" : "velocity"),
                     subkey(x, p->centre[0] != 0 ? "centre" : "velocity"),
                     "expected x = 0 in an axisymmetric case (the sphere moves along the axis)");
+    if (p->boundary_integral && x->c->numerics.total_lagrangian)
+        return fail(x, line_of(fr, "boundary"), subkey(x, "boundary"),
+                    "expected penalty with formulation total_lagrangian (the integral wall "
+                    "enters the updated form's pass 1)");
     if (p->boundary_integral && p->no_slip)
         return fail(x, line_of(fr, "contact"), subkey(x, "contact"),
                     "expected free_slip with boundary: integral (the integral wall is free slip; "

@@ -54,7 +54,7 @@
 /* The wall's normal velocity in pass 1, as a multiple of the approach:
  * 2 the mirror image's (the default: energy-conserving), 1 the sphere's
  * own (the wall moving rigidly, as Adami et al. 2012's continuity term has
- * it; it leaves 9-19% of the impact energy unaccounted for in the gel
+ * it; it leaves 6-18% of the impact energy unaccounted for in the gel
  * shots, docs/validation_penetration.md). -DSPH_SPHERE_WALL_IMAGE=1 in
  * SPH_BUILD_OPTIONS for comparisons. */
 #ifndef SPH_SPHERE_WALL_IMAGE
@@ -79,9 +79,9 @@ static inline void sphere_wall_integrand(int type, int dim, real r, real d, real
         fmin(fmax((d * d + r * r - radius * radius) / ((real)2 * d * r), (real)-1), (real)1);
     const real w1 = sph_kernel_dwdr(type, dim, r, h);
     if (dim == 3) {
-        out[0] = (real)M_PI * r * r * w1 * ((real)1 - c * c);
-        out[1] = -((real)2 * (real)M_PI / (real)3) * r * r * r * w1 * ((real)1 - c * c * c);
-        out[2] = -(real)M_PI * r * r * r * w1 * (((real)1 - c) - ((real)1 - c * c * c) / (real)3);
+        out[0] = (real)SPH_PI * r * r * w1 * ((real)1 - c * c);
+        out[1] = -((real)2 * (real)SPH_PI / (real)3) * r * r * r * w1 * ((real)1 - c * c * c);
+        out[2] = -(real)SPH_PI * r * r * r * w1 * (((real)1 - c) - ((real)1 - c * c * c) / (real)3);
     } else {
         const real theta = acos(c), s = sqrt(fmax((real)1 - c * c, (real)0));
         out[0] = (real)2 * r * w1 * s;
@@ -102,9 +102,9 @@ static inline void sphere_wall_quadrature(int type, int dim, real a, real b, rea
                        (real)0.1012285362903763};
     const real mid = (real)0.5 * (a + b), half_width = (real)0.5 * (b - a);
     for (int k = 0; k < 4; ++k)
-        for (int sign = -1; sign <= 1; sign += 2) {
+        for (int side = -1; side <= 1; side += 2) {
             real f[3];
-            sphere_wall_integrand(type, dim, mid + sign * half_width * x[k], d, radius, h, f);
+            sphere_wall_integrand(type, dim, mid + side * half_width * x[k], d, radius, h, f);
             for (int q = 0; q < 3; ++q)
                 sum[q] += half_width * w[k] * f[q];
         }
@@ -116,8 +116,6 @@ static inline struct sphere_wall_moments sphere_wall_integrals(int type, int dim
     const real support = sph_kernel_support_q(type) * h;
     real sum[3] = {0, 0, 0};
     const real lo = fmax(d - radius, (real)0), hi = fmin(d + radius, support);
-    /* the shells wholly inside the sphere (r < R - d, a centre inside it)
-     * and those it cuts: the integrand has a kink between them */
     /* pieces between the kinks of the integrand: r = R - d (the shells
      * wholly inside the sphere end there, for a centre inside it) and the
      * piecewise kernels' joints at r = h and 2 h */
@@ -195,8 +193,13 @@ sphere_wall_particle(int i, __global const vec *restrict pos, __global const vec
     struct sphere_wall_particle p;
     p.d = sphere_wall_geometry(state, pos[i], p.n, p.sphere_v);
     p.h = run->h * spacing_scale(flags[i]);
-    const vec v = vel[i];
     p.closing = 0;
+    p.normal_stress = 0;
+    p.contact = 0;
+    /* most particles are out of reach: no stress read for them */
+    if (!(p.d > 0 && p.d < run->sphere_radius + sph_kernel_support_q(SPH_KERNEL) * p.h))
+        return p;
+    const vec v = vel[i];
     for (int a = 0; a < SPH_DIM; ++a)
         p.closing += (p.sphere_v[a] - vec_get(v, a)) * p.n[a];
     p.normal_stress = sphere_wall_normal_stress(deviatoric_stress[i], pressure[i], p.n);
@@ -242,12 +245,12 @@ sphere_wall_acceleration(int i, __global const vec *restrict pos, __global const
     *defect = 0;
     const struct sphere_wall_particle p =
         sphere_wall_particle(i, pos, vel, flags, deviatoric_stress, pressure, state, run);
-    /* never a pull: the force needs the normal stress compressive */
-    if (p.normal_stress >= 0 || !p.contact)
+    if (!p.contact)
         return VEC_ZERO;
     const struct sphere_wall_moments m =
         sphere_wall_integrals(SPH_KERNEL, SPH_DIM, p.d, run->sphere_radius, p.h);
-    const real *n = p.n, normal_stress = p.normal_stress, closing = p.closing;
+    const real *n = p.n;
+    const real normal_stress = p.normal_stress, closing = p.closing;
     const vec v = vel[i];
     real c[3][3], s[3][3];
 #ifdef SPH_CSPH
@@ -268,14 +271,21 @@ sphere_wall_acceleration(int i, __global const vec *restrict pos, __global const
             w[a] += c[a][b] * m.dphi * n[b];
             sigma_n[a] += s[a][b] * n[b];
         }
-    /* (sigma + M sigma M) w, M = I - 2 n n: sigma + M sigma M =
-     * 2 sigma - 2 n (x) (sigma n) - 2 (sigma n) (x) n + 4 sigma_nn n (x) n */
     real n_w = 0, sn_w = 0;
     for (int a = 0; a < SPH_DIM; ++a) {
         n_w += n[a] * w[a];
         sn_w += sigma_n[a] * w[a];
     }
     const real inv_rho = (real)1 / rho[i];
+    /* never a pull: a particle closing on the sphere in tension is
+     * compressed by pass 1's term but gets no force; its stress work
+     * through that term is all the pair's defect */
+    if (normal_stress >= 0) {
+        *defect = (real)SPH_SPHERE_WALL_IMAGE * inv_rho * closing * sn_w;
+        return VEC_ZERO;
+    }
+    /* (sigma + M sigma M) w, M = I - 2 n n: sigma + M sigma M =
+     * 2 sigma - 2 n (x) (sigma n) - 2 (sigma n) (x) n + 4 sigma_nn n (x) n */
     real acc[3] = {0, 0, 0};
     for (int a = 0; a < SPH_DIM; ++a) {
         real sw = 0;

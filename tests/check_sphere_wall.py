@@ -1,14 +1,16 @@
 #!/usr/bin/python3
 """The sphere as a boundary integral (projectile.boundary: integral,
-kernels/sphere_wall.cl) on a run folder: the work the wall pairs leave
-unaccounted for, the contact's dissipated energy over the sphere's initial
-kinetic energy (ballistics.csv, last row), must stay below --max-dissipated.
+kernels/sphere_wall.cl) on a run folder: the work the contact leaves
+unaccounted for, its dissipated energy over the sphere's initial kinetic
+energy (ballistics.csv, last row: the wall pairs' defect and the penalty
+backstop's dampers together, a net figure), must stay within
++-(--max-dissipated).
 
 With the mirror image's velocity in the velocity gradient (the default) the
 pair conserves energy, and what is left is the CSPH matrix and the
 half-step between the force and the compression (measured 1.0% of the
 sphere's energy at d/dx 8 over a whole gelatin shot); a wall moving rigidly
-with the sphere (-DSPH_SPHERE_WALL_IMAGE=1) leaves 9-19%
+with the sphere (-DSPH_SPHERE_WALL_IMAGE=1) leaves 6-18%
 (docs/validation_penetration.md, session 31), so the bound can fail.
 
 usage: check_sphere_wall.py RUN --max-dissipated F
@@ -31,7 +33,7 @@ def main():
     print(f"check_sphere_wall: the contact dissipated {dissipated:.4f} of the sphere's "
           f"initial kinetic energy by {float(rows[-1]['time_s']) * 1e9:.0f} ns "
           f"(bound {args.max_dissipated})")
-    if not 0 <= dissipated <= args.max_dissipated:
+    if abs(dissipated) > args.max_dissipated:
         sys.exit("FAIL: the wall pairs do not conserve energy to the bound")
 
 
