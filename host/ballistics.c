@@ -202,9 +202,8 @@ int solver_projectile_create(struct solver *s, const struct sph_case *c,
 void solver_projectile_contact(struct solver *s, double dt, double dt_prev)
 {
     struct projectile *p = &s->projectile;
-    struct real_arg a_radius, a_speed, a_dx, a_dt, a_prev;
+    struct real_arg a_speed, a_dx, a_dt, a_prev;
     SET_ARGS(s, s->k.projectile_contact, MEM("state", p->state),
-             real_value(s, &a_radius, "radius", p->radius),
              real_value(s, &a_speed, "stiffness_speed", p->stiffness_speed),
              real_value(s, &a_dx, "dx", s->dx), real_value(s, &a_dt, "dt", dt),
              real_value(s, &a_prev, "dt_prev", dt_prev), INT("no_slip", p->no_slip),

@@ -734,15 +734,11 @@ static int open_run(const struct run_options *opt, struct run_resources *r, char
      * box, far more than it holds, so such cases wait for the exact check */
     solver_choose_lane_lists(c, points, (double)r->dev.global_memory, opt->quiet);
     const double bytes = points * (double)solver_case_bytes_per_particle(c);
-    char advice[160];
-    solver_memory_advice(c, advice, sizeof advice);
-    if (!scene_has_track(c) && bytes > (double)r->dev.global_memory)
-        return 2 * (snprintf(error, size,
-                             "the case needs about %.2f GiB of device memory (%zu bytes x %.3g "
-                             "particles) but %s has %.2f GiB; %s (for PoCL, "
-                             "POCL_MEMORY_LIMIT=<GiB> sets the limit)",
-                             bytes / (1 << 30), solver_case_bytes_per_particle(c), points,
-                             r->dev.name, (double)r->dev.global_memory / (1 << 30), advice) > 0);
+    if (!scene_has_track(c) && bytes > (double)r->dev.global_memory) {
+        solver_memory_error(c, &r->dev, bytes, solver_case_bytes_per_particle(c), points, 1, error,
+                            size);
+        return 2;
+    }
     if (scene_build(c, &r->scene, error, size) || projectile_check_scene(c, &r->scene, error, size))
         return 1;
     solver_choose_loop(c, &r->dev);

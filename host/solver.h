@@ -265,9 +265,12 @@ size_t solver_case_bytes_per_particle(const struct sph_case *c);
 /* The lane lists' device memory per particle, estimated from the case
  * (0 without them). */
 size_t solver_lane_list_estimate(const struct sph_case *c);
-/* What to change when the case does not fit the device's memory (a
- * sentence for the error message). */
-void solver_memory_advice(const struct sph_case *c, char *advice, size_t size);
+/* The error of a case that does not fit the device's memory: `bytes` for
+ * `particles` of `per_particle` (an estimate before the scene is built),
+ * and what to change. */
+void solver_memory_error(const struct sph_case *c, const struct sph_device *dev, double bytes,
+                         size_t per_particle, double particles, int estimate, char *error,
+                         size_t size);
 /* -D options for the program from the case. */
 void solver_build_options(const struct sph_case *c, char *options, size_t size);
 

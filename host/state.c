@@ -405,16 +405,22 @@ static void upload_run_params(struct solver *s)
                                   NULL, NULL));
 }
 
-void solver_memory_advice(const struct sph_case *c, char *advice, size_t size)
+void solver_memory_error(const struct sph_case *c, const struct sph_device *dev, double bytes,
+                         size_t per_particle, double particles, int estimate, char *error,
+                         size_t size)
 {
     const size_t lists = solver_lane_list_estimate(c);
+    char advice[160] = "use a coarser dx";
     if (lists)
-        snprintf(advice, size,
+        snprintf(advice, sizeof advice,
                  "use a coarser dx, or numerics.lane_lists: false (%zu bytes per particle less, "
                  "slower neighbour passes)",
                  lists);
-    else
-        snprintf(advice, size, "use a coarser dx");
+    snprintf(error, size,
+             "the case needs %s%.2f GiB of device memory (%zu bytes x %.0f particles) but %s has "
+             "%.2f GiB; %s (for PoCL, POCL_MEMORY_LIMIT=<GiB> sets the limit)",
+             estimate ? "about " : "", bytes / (1 << 30), per_particle, particles, dev->name,
+             (double)dev->global_memory / (1 << 30), advice);
 }
 
 int solver_create_buffers(struct solver *s, const struct sph_case *c, const struct sph_scene *scene,
@@ -422,13 +428,8 @@ int solver_create_buffers(struct solver *s, const struct sph_case *c, const stru
 {
     const size_t total = solver_bytes_per_particle(s) * (size_t)s->capacity;
     if (total > s->dev->global_memory) {
-        char advice[160];
-        solver_memory_advice(c, advice, sizeof advice);
-        snprintf(error, error_size,
-                 "the case needs %.2f GiB of device memory (%zu bytes x %d particles) but %s has "
-                 "%.2f GiB; %s (for PoCL, POCL_MEMORY_LIMIT=<GiB> sets the limit)",
-                 (double)total / (1 << 30), solver_bytes_per_particle(s), s->capacity, s->dev->name,
-                 (double)s->dev->global_memory / (1 << 30), advice);
+        solver_memory_error(c, s->dev, (double)total, solver_bytes_per_particle(s), s->capacity, 0,
+                            error, error_size);
         return 1;
     }
     const size_t largest = largest_element(s, 0) * (size_t)s->capacity;

@@ -62,19 +62,17 @@ static inline void contact_add_force(real mine[SPH_CONTACT_SLOTS], real m, vec a
  * does not rotate (it has no angular velocity), so the stick's torque is
  * not integrated: exact for a shot along a symmetry axis, where the
  * torques cancel. */
-__kernel __attribute__((reqd_work_group_size(REDUCE_WG, 1, 1))) void
-projectile_contact(__global const vec *restrict pos, __global const vec *restrict vel,
-                   __global const vec *restrict vel_half, __global const real *restrict mass,
-                   __global const int *restrict flags, __global vec *restrict acceleration,
-                   __global const real *restrict state, const real radius,
-                   const real stiffness_speed, const real dx, const real dt, const real dt_prev,
-                   const int no_slip,
+__kernel __attribute__((reqd_work_group_size(REDUCE_WG, 1, 1))) void projectile_contact(
+    __global const vec *restrict pos, __global const vec *restrict vel,
+    __global const vec *restrict vel_half, __global const real *restrict mass,
+    __global const int *restrict flags, __global vec *restrict acceleration,
+    __global const real *restrict state, __constant const struct sph_run_params *run,
+    const real stiffness_speed, const real dx, const real dt, const real dt_prev, const int no_slip,
 #ifdef SPH_SPHERE_WALL
-                   __global const symt *restrict deviatoric_stress,
-                   __global const real *restrict pressure, __global const real *restrict rho,
-                   __global const symt *restrict csph, __constant const struct sph_run_params *run,
+    __global const symt *restrict deviatoric_stress, __global const real *restrict pressure,
+    __global const real *restrict rho, __global const symt *restrict csph,
 #endif
-                   __global real *restrict partials, const int n)
+    __global real *restrict partials, const int n)
 {
     __local real acc[REDUCE_WG][SPH_CONTACT_SLOTS];
     real mine[SPH_CONTACT_SLOTS];
@@ -83,6 +81,7 @@ projectile_contact(__global const vec *restrict pos, __global const vec *restric
     const vec centre = vec_make(state[SPH_PROJ_X], state[SPH_PROJ_X + 1], state[SPH_PROJ_X + 2]);
     const vec sphere_velocity =
         vec_make(state[SPH_PROJ_V], state[SPH_PROJ_V + 1], state[SPH_PROJ_V + 2]);
+    const real radius = run->sphere_radius;
     const real k2 = stiffness_speed * stiffness_speed;
     const real kick = (real)0.5 * (dt_prev + dt); /* the particles' kick (integrate.cl) */
     FOR_GROUP_BLOCK (i, n) {

@@ -28,8 +28,8 @@
  *        A = -int r^2 W' (theta_0 + c sin theta_0) dr,
  *        B = -int r^2 W' (theta_0 - c sin theta_0) dr.
  * Over the whole space (c = -1) A = B = 1 and Phi' = 0: the kernel's
- * normalisation (tests/test_sphere_wall.c checks these and the integrals against brute
- * force).
+ * normalisation (tests/test_sphere_wall.c checks these, and the integrals
+ * against brute-force sums).
  *
  * What the sums get (free slip, unilateral):
  *   pass 1: the CSPH moment matrix gets M, and the velocity gradient the
@@ -137,27 +137,6 @@ static inline struct sphere_wall_moments sphere_wall_integrals(int type, int dim
 
 #ifdef SPH_SPHERE_WALL
 
-/* Whether particle i is in contact with the wall: within its support of
- * the surface, and pressed (n.sigma.n < 0) or closing (u_n > 0, u_n the
- * sphere's velocity less the particle's, along n). */
-static inline int sphere_wall_contact(real d, real radius, real support, real normal_stress,
-                                      real closing)
-{
-    return d > 0 && d < radius + support && (normal_stress < 0 || closing > 0);
-}
-
-/* n.sigma.n of a particle, sigma = s - p I */
-static inline real sphere_wall_normal_stress(symt s, real p, const real n[3])
-{
-    real t[3][3];
-    symt_load(s, t);
-    real nn = 0;
-    for (int a = 0; a < SPH_DIM; ++a)
-        for (int b = 0; b < SPH_DIM; ++b)
-            nn += n[a] * t[a][b] * n[b];
-    return nn - p;
-}
-
 /* The sphere's centre, velocity (slots of kernels/projectile.cl's state)
  * and particle i's outward normal and distance from the centre. */
 static inline real sphere_wall_geometry(__global const real *restrict state, vec x, real n[3],
@@ -177,9 +156,11 @@ static inline real sphere_wall_geometry(__global const real *restrict state, vec
 
 /* What both wall terms need of particle i: its distance d from the
  * sphere's centre, the outward normal n, the sphere's velocity, the
- * closing speed (V - v_i).n, n.sigma_i.n, and whether i is in contact. */
+ * closing speed (V - v_i).n, its stress sigma = s - p I and n.sigma.n, and
+ * whether it is in contact: within its support of the surface, and
+ * pressed (n.sigma.n < 0) or closing. */
 struct sphere_wall_particle {
-    real d, n[3], sphere_v[3], closing, normal_stress, h;
+    real d, n[3], sphere_v[3], closing, sigma[3][3], normal_stress, h;
     int contact;
 };
 
@@ -202,9 +183,13 @@ sphere_wall_particle(int i, __global const vec *restrict pos, __global const vec
     const vec v = vel[i];
     for (int a = 0; a < SPH_DIM; ++a)
         p.closing += (p.sphere_v[a] - vec_get(v, a)) * p.n[a];
-    p.normal_stress = sphere_wall_normal_stress(deviatoric_stress[i], pressure[i], p.n);
-    p.contact = sphere_wall_contact(p.d, run->sphere_radius, sph_kernel_support_q(SPH_KERNEL) * p.h,
-                                    p.normal_stress, p.closing);
+    symt_load(deviatoric_stress[i], p.sigma);
+    for (int a = 0; a < 3; ++a)
+        p.sigma[a][a] -= pressure[i];
+    for (int a = 0; a < SPH_DIM; ++a)
+        for (int b = 0; b < SPH_DIM; ++b)
+            p.normal_stress += p.n[a] * p.sigma[a][b] * p.n[b];
+    p.contact = p.normal_stress < 0 || p.closing > 0;
     return p;
 }
 
@@ -252,7 +237,7 @@ sphere_wall_acceleration(int i, __global const vec *restrict pos, __global const
     const real *n = p.n;
     const real normal_stress = p.normal_stress, closing = p.closing;
     const vec v = vel[i];
-    real c[3][3], s[3][3];
+    real c[3][3];
 #ifdef SPH_CSPH
     symt_load(csph[i], c);
 #else
@@ -261,9 +246,7 @@ sphere_wall_acceleration(int i, __global const vec *restrict pos, __global const
         for (int b = 0; b < 3; ++b)
             c[a][b] = a == b ? (real)1 : (real)0;
 #endif
-    symt_load(deviatoric_stress[i], s);
-    for (int a = 0; a < 3; ++a)
-        s[a][a] -= pressure[i];
+    const real(*s)[3] = p.sigma;
     /* w = C grad Phi, sigma_n = sigma . n */
     real w[3] = {0, 0, 0}, sigma_n[3] = {0, 0, 0};
     for (int a = 0; a < SPH_DIM; ++a)
