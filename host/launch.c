@@ -89,7 +89,7 @@ static int solver_value(const struct solver *s, const char *name, struct arg *ou
         MEM("cell_start", s->cell_start),
         MEM("cell_end", s->cell_end),
         MEM("cell_level", s->cell_level),
-        MEM("lane_list_start", s->lane_list_start),
+        MEM("lane_list_range", s->lane_list_range),
         MEM("lane_list", s->lane_list),
         MEM("projectile_state", s->projectile.state),
         RAW("grid_dims", sizeof s->grid.dims4, &s->grid.dims4),

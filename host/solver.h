@@ -207,10 +207,10 @@ struct solver {
     cl_mem cell_level;                      /* graded lattices: the coarsest level in each cell */
     cl_mem sort_buckets, sort_block_totals; /* the sort's counts (solver_sort_keys) */
     int sort_bucket_capacity;
-    /* the lane passes' candidates: block b's are lane_list[lane_list_start[b]
-     * .. lane_list_start[b + 1]) (solver_lane_lists_build) */
-    cl_mem lane_list_start, lane_list, lane_list_block_totals;
-    long lane_list_start_capacity, lane_list_totals_capacity,
+    /* the lane passes' candidates: block b's are lane_list[range[2 b] ..
+     * range[2 b + 1]) (solver_lane_lists_build); claim: the build's counters */
+    cl_mem lane_list_range, lane_list, lane_list_claim;
+    long lane_list_range_capacity, lane_list_claim_capacity,
         lane_list_capacity;    /* ints each has room for */
     long lane_list_entries;    /* entries of the last build */
     long sorts;                /* grid sorts by this process since it started */

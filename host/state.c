@@ -502,9 +502,9 @@ void solver_release_buffers(struct solver *s)
     solver_release_buffer(&s->cell_level);
     solver_release_buffer(&s->sort_buckets);
     solver_release_buffer(&s->sort_block_totals);
-    solver_release_buffer(&s->lane_list_start);
+    solver_release_buffer(&s->lane_list_range);
     solver_release_buffer(&s->lane_list);
-    solver_release_buffer(&s->lane_list_block_totals);
+    solver_release_buffer(&s->lane_list_claim);
     solver_release_buffer(&s->cell_coarser[0]);
     solver_release_buffer(&s->cell_coarser[1]);
     solver_release_buffer(&s->cell_end);

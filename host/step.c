@@ -309,39 +309,51 @@ static void ensure_ints(struct solver *s, cl_mem *m, long *capacity, long count)
  * serves until the next sort, as the cells do), 1 in the total Lagrangian
  * form (its reference positions never move); 1e-4 more for the rounding of
  * the distance tests, so that the list holds every candidate a pass's test
- * can accept. Counted, turned into first entries, written: one read-back
- * (the total) per sort. */
+ * can accept. One walk per sort and one read-back (the entries claimed and
+ * the blocks left to write; kernels/lanes.cl, lane_list_build). A list too
+ * short is grown and the walk done again; the list starts empty, so every
+ * run takes that path at its first sort and keeps a quarter more than it
+ * used. A block with more candidates than its private room is walked again
+ * alone, writing straight into its claimed place. */
 void solver_lane_lists_build(struct solver *s)
 {
     if (!s->lane_lists) { /* the passes walk the cells: tokens to bind */
-        ensure_ints(s, &s->lane_list_start, &s->lane_list_start_capacity, 1);
+        ensure_ints(s, &s->lane_list_range, &s->lane_list_range_capacity, 2);
         ensure_ints(s, &s->lane_list, &s->lane_list_capacity, 1);
         return;
     }
-    const cl_int blocks = (cl_int)solver_lane_blocks(s), starts = blocks + 1, zero = 0;
-    ensure_ints(s, &s->lane_list_start, &s->lane_list_start_capacity, starts);
-    ensure_ints(s, &s->lane_list_block_totals, &s->lane_list_totals_capacity,
-                starts / SPH_SCAN_BLOCK + 1);
+    const cl_int blocks = (cl_int)solver_lane_blocks(s), zero = 0, two = 2;
+    ensure_ints(s, &s->lane_list_range, &s->lane_list_range_capacity, 2 * (long)blocks);
+    ensure_ints(s, &s->lane_list_claim, &s->lane_list_claim_capacity, 2);
     ensure_ints(s, &s->lane_list, &s->lane_list_capacity, 1);
     const int tl = s->total_lagrangian;
     struct real_arg a_scale;
     const double scale = (tl ? 1.0 : 1.0 + s->skin) * (1.0 + 1e-4);
     cl_mem at = s->field[tl ? FIELD_POS0 : FIELD_POS];
-    SET_ARGS(s, s->k.fill_int, MEM("a", s->lane_list_start), INT("value", zero), INT("n", starts));
-    solver_launch(s, s->k.fill_int, (size_t)starts, 0);
-    for (int fill = 0; fill < 2; ++fill) {
+    cl_int claim[2] = {0, 0}; /* entries claimed, blocks left to write */
+    for (cl_int rewalk = 0; rewalk < 2 && !cl_failed();) {
+        if (!rewalk) {
+            SET_ARGS(s, s->k.fill_int, MEM("a", s->lane_list_claim), INT("value", zero),
+                     INT("n", two));
+            solver_launch(s, s->k.fill_int, 2, 0);
+        }
+        const cl_int capacity = (cl_int)s->lane_list_capacity;
         SET_ARGS(s, s->k.lane_list_build, MEM("at", at),
-                 real_value(s, &a_scale, "reach_scale", scale), INT("fill", fill), INT("n", s->n));
+                 real_value(s, &a_scale, "reach_scale", scale),
+                 MEM("list_claim", s->lane_list_claim), INT("capacity", capacity),
+                 INT("rewalk", rewalk), INT("n", s->n));
         solver_launch(s, s->k.lane_list_build, (size_t)blocks, 0);
-        if (fill || cl_failed())
+        if (rewalk)
             break;
-        solver_exclusive_scan(s, s->lane_list_start, starts, s->lane_list_block_totals);
-        cl_int total = 0;
-        CL_CHECK(clEnqueueReadBuffer(s->dev->queue, s->lane_list_start, CL_TRUE,
-                                     sizeof(cl_int) * (size_t)blocks, sizeof total, &total, 0, NULL,
-                                     NULL));
-        s->lane_list_entries = total;
-        ensure_ints(s, &s->lane_list, &s->lane_list_capacity, total);
+        CL_CHECK(clEnqueueReadBuffer(s->dev->queue, s->lane_list_claim, CL_TRUE, 0, sizeof claim,
+                                     claim, 0, NULL, NULL));
+        s->lane_list_entries = claim[0];
+        if (claim[0] > s->lane_list_capacity)
+            ensure_ints(s, &s->lane_list, &s->lane_list_capacity, claim[0]);
+        else if (claim[1] > 0)
+            rewalk = 1;
+        else
+            break;
     }
 }
 
@@ -353,8 +365,8 @@ long solver_lane_blocks(const struct solver *s)
 size_t solver_lane_list_bytes(const struct solver *s)
 {
     return s->lane_lists
-               ? sizeof(cl_int) * (size_t)(s->lane_list_capacity + s->lane_list_start_capacity +
-                                           s->lane_list_totals_capacity)
+               ? sizeof(cl_int) * (size_t)(s->lane_list_capacity + s->lane_list_range_capacity +
+                                           s->lane_list_claim_capacity)
                : 0;
 }
 

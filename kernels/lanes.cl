@@ -132,11 +132,11 @@ static inline bool lane_live(const struct lane_block *b, int l)
 }
 
 /* The lane passes' grid: the cell grid (GRID_ARGS) and each block's list
- * of candidates, lane_list[lane_list_start[b] .. lane_list_start[b + 1]),
+ * of candidates, lane_list[lane_list_range[b].x .. lane_list_range[b].y),
  * built at each sort by lane_list_build (host/step.c,
  * solver_lane_lists_build). */
 #define LANE_GRID_ARGS                                                                             \
-    GRID_ARGS, __global const int *restrict lane_list_start, __global const int *restrict lane_list
+    GRID_ARGS, __global const int2 *restrict lane_list_range, __global const int *restrict lane_list
 
 /* LANE_CELL_WALK(block, j) { ... } END_LANE_CELL_WALK: every j in the
  * cells within LANE_REACH of the block's box, in the cells' order; rows
@@ -169,8 +169,8 @@ static inline bool lane_live(const struct lane_block *b, int l)
 #define END_FOR_EACH_LANE_NEIGHBOUR END_LANE_CELL_WALK
 #else
 #define FOR_EACH_LANE_NEIGHBOUR(b, j)                                                              \
-    for (int k_ = lane_list_start[(b).first / SPH_LANES];                                          \
-         k_ < lane_list_start[(b).first / SPH_LANES + 1]; ++k_) {                                  \
+    const int2 range_ = lane_list_range[(b).first / SPH_LANES];                                    \
+    for (int k_ = range_.x; k_ < range_.y; ++k_) {                                                 \
         const int j = lane_list[k_];
 
 #define END_FOR_EACH_LANE_NEIGHBOUR }
@@ -226,58 +226,106 @@ static inline void lane_positions(__global const vec *restrict pos, const struct
         xi[a] = SPH_SELECT((realv)LANE_FAR, xi[a], b->live);
 }
 
-/* Each lane block's candidate list (FOR_EACH_LANE_NEIGHBOUR), in two
- * launches of one work-item per block (host/step.c,
- * solver_lane_lists_build): with fill 0 it counts each block's candidates
- * into lane_list_start[block], which the host turns into each block's first
- * entry (an exclusive prefix sum); with fill 1 it writes them there. A
- * candidate of the cell walk is kept when some lane is within reach_scale
- * times the pair's support of it: 1 + skin in the updated form, where the
- * list serves until the next sort (the grid's own margin: each particle
- * moves less than skin support / 2 before it, so a pair within the support
- * then is within (1 + skin) support now); 1 in the total Lagrangian form,
- * whose passes test the reference positions, which never move. r = 0 is
- * kept (the lane's own particle, or one that coincides with it now and may
- * not later).
+/* |x_i - x_j|^2 for every lane against candidate j. Unrolled: the same
+ * loop written inside a macro, where it cannot be marked so, took the
+ * lists' build twice as long on gelatin3d-120k (docs/performance.md). */
+static inline realv lane_distance2(const realv xi[3], vec xj)
+{
+    realv r2 = (realv)0;
+#pragma unroll
+    for (int a = 0; a < SPH_DIM; ++a) {
+        const realv d = xi[a] - vec_get(xj, a);
+        r2 += d * d;
+    }
+    return r2;
+}
+
+/* LANE_LIST_CANDIDATES(b, xi, reach2, j, keep) { ... } END_LANE_LIST_CANDIDATES:
+ * every candidate j of the block's cell walk, in the walk's order, with
+ * keep = 1 when some lane is within sqrt(reach2) times the pair's support
+ * of it, else 0. */
+#define LANE_LIST_CANDIDATES(b, xi, reach2, j, keep)                                               \
+    LANE_CELL_WALK(b, j)                                                                           \
+    {                                                                                              \
+        LANE_PAIR_SUPPORT(b, j);                                                                   \
+        (void)h;                                                                                   \
+        const int keep = lanes_any(lane_distance2(xi, at[j]) < (reach2)*support2);
+
+#define END_LANE_LIST_CANDIDATES                                                                   \
+    }                                                                                              \
+    END_LANE_CELL_WALK
+
+/* Entries a block keeps in private memory before the one write of its
+ * list; a block with more is walked again by a second launch (host/step.c). */
+#ifndef SPH_LANE_LIST_ROOM
+#define SPH_LANE_LIST_ROOM 1024
+#endif
+
+/* Each lane block's candidate list (FOR_EACH_LANE_NEIGHBOUR), one
+ * work-item per block, one walk per sort (host/step.c,
+ * solver_lane_lists_build). A candidate of the cell walk is kept when some
+ * lane is within reach_scale times the pair's support of it: 1 + skin in
+ * the updated form, where the list serves until the next sort (the grid's
+ * own margin: each particle moves less than skin support / 2 before it, so
+ * a pair within the support then is within (1 + skin) support now); 1 in
+ * the total Lagrangian form, whose passes test the reference positions,
+ * which never move. r = 0 is kept (the lane's own particle, or one that
+ * coincides with it now and may not later).
+ * The first launch (rewalk 0) keeps a block's candidates in private memory,
+ * claims their place in lane_list with an atomic add on list_claim[0] (the
+ * blocks' lists lie in any order, each in its walk's order, so the passes'
+ * sums do not depend on where) and writes them there when they fit both the
+ * private room and `capacity`; a block that does not counts itself in
+ * list_claim[1]. If the list was short (list_claim[0] > capacity) the host
+ * grows it and launches the first again; else, only if list_claim[1] > 0,
+ * it launches again with rewalk 1: the blocks with more candidates than
+ * the room walk again and write into their claimed place directly.
  * reads: at (the positions the passes test: pos, or pos0 in the total
- * Lagrangian form), flags, the grid; writes: lane_list_start (fill 0) or
- * lane_list (fill 1). */
+ * Lagrangian form), flags, the grid; writes: lane_list_range, lane_list,
+ * list_claim (zeroed by the host before the first launch). */
 __kernel void lane_list_build(__global const vec *restrict at, __global const int *restrict flags,
                               GRID_ARGS, __constant const struct sph_run_params *run,
-                              const real reach_scale, __global int *restrict lane_list_start,
-                              __global int *restrict lane_list, const int fill, const int n)
+                              const real reach_scale, __global int2 *restrict lane_list_range,
+                              __global int *restrict lane_list,
+                              volatile __global int *restrict list_claim, const int capacity,
+                              const int rewalk, const int n)
 {
     const int block = (int)get_global_id(0);
     if (block * SPH_LANES >= n) /* the launch rounds up: no entry of this block */
         return;
+    int2 range = rewalk ? lane_list_range[block] : (int2)(0, 0);
+    if (rewalk && range.y - range.x <= SPH_LANE_LIST_ROOM && range.y <= capacity)
+        return; /* written by the first launch */
     struct lane_block b;
-    int count = 0;
-    if (lane_block_setup(&b, flags, sort_keys, grid_dims, n)) {
-        LANE_PASS_CONSTANTS;
-        realv xi[3];
-        lane_positions(at, &b, n, xi);
-        const int first = fill ? lane_list_start[block] : 0;
-        LANE_CELL_WALK(b, j)
-        {
-            LANE_PAIR_SUPPORT(b, j);
-            const vec xj = at[j];
-            realv r2 = (realv)0;
-#pragma unroll
-            for (int a = 0; a < SPH_DIM; ++a) {
-                const realv d = xi[a] - vec_get(xj, a);
-                r2 += d * d;
-            }
-            if (lanes_any(r2 < reach_scale * reach_scale * support2)) {
-                if (fill)
-                    lane_list[first + count] = j;
-                ++count;
-            }
-            (void)h;
-        }
-        END_LANE_CELL_WALK
+    if (!lane_block_setup(&b, flags, sort_keys, grid_dims, n)) {
+        lane_list_range[block] = range;
+        return;
     }
-    if (!fill)
-        lane_list_start[block] = count;
+    LANE_PASS_CONSTANTS;
+    realv xi[3];
+    lane_positions(at, &b, n, xi);
+    const real reach2 = reach_scale * reach_scale;
+    int count = 0;
+    if (rewalk) { /* the place is claimed: no store past it */
+        LANE_LIST_CANDIDATES(b, xi, reach2, j, keep)
+        if (keep)
+            lane_list[range.x + count++] = j;
+        END_LANE_LIST_CANDIDATES
+        return;
+    }
+    int room[SPH_LANE_LIST_ROOM + 1]; /* + 1: every candidate is stored */
+    LANE_LIST_CANDIDATES(b, xi, reach2, j, keep)
+    room[min(count, SPH_LANE_LIST_ROOM)] = j;
+    count += keep;
+    END_LANE_LIST_CANDIDATES
+    range.x = count > 0 ? atomic_add(&list_claim[0], count) : 0;
+    range.y = range.x + count;
+    lane_list_range[block] = range;
+    if (count <= SPH_LANE_LIST_ROOM && range.y <= capacity)
+        for (int k = 0; k < count; ++k)
+            lane_list[range.x + k] = room[k];
+    else
+        atomic_inc(&list_claim[1]);
 }
 
 /* Lane l of a tensor per lane, and the tensor of lanes. */

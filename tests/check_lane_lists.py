@@ -14,7 +14,13 @@ Fails unless both runs ran the lanes, only the first built lists
 least MIN_SORTS times (grid_sorts: the lists were rebuilt while particles
 moved).
 
-usage: check_lane_lists.py SPH CASE OUT_FOLDER MIN_SORTS [sph --set arguments ...]
+--room N builds the lists with room for N entries per block in private
+memory (-DSPH_LANE_LIST_ROOM=N, default 1024), so that blocks with more
+take the build's second walk, which writes straight into the list. Every
+build's second walk also runs at a run's first sort, when the list is still
+empty.
+
+usage: check_lane_lists.py SPH CASE OUT_FOLDER MIN_SORTS [--room N] [sph --set arguments ...]
 """
 import filecmp
 import json
@@ -24,8 +30,8 @@ import sys
 from build_options_run import run_with_options
 
 
-def run(sph, case, out, sets, lists):
-    run_with_options(sph, case, out, sets + ["--set", f"numerics.lane_lists={lists}"], "",
+def run(sph, case, out, sets, lists, options=""):
+    run_with_options(sph, case, out, sets + ["--set", f"numerics.lane_lists={lists}"], options,
                      "check_lane_lists")
     with open(os.path.join(out, "summary.json")) as f:
         summary = json.load(f)
@@ -43,7 +49,11 @@ def main():
         sys.exit(__doc__)
     sph, case, out, min_sorts = sys.argv[1], sys.argv[2], sys.argv[3], int(sys.argv[4])
     sets = sys.argv[5:]
-    lists = run(sph, case, os.path.join(out, "lists"), sets, "true")
+    options = ""
+    if sets[:1] == ["--room"]:
+        options = f"-DSPH_LANE_LIST_ROOM={int(sets[1])}"
+        sets = sets[2:]
+    lists = run(sph, case, os.path.join(out, "lists"), sets, "true", options)
     run(sph, case, os.path.join(out, "walk"), sets, "false")
     sorts = lists.get("grid_sorts", 0)
     if sorts < min_sorts:
