@@ -315,6 +315,24 @@ static void ensure_ints(struct solver *s, cl_mem *m, long *capacity, long count)
  * run takes that path at its first sort and keeps a quarter more than it
  * used. A block with more candidates than its private room is walked again
  * alone, writing straight into its claimed place. */
+/* One launch of lane_list_build: the first walk (rewalk 0, list_claim
+ * zeroed first) or the second, of the blocks over their room. */
+static void lane_list_launch(struct solver *s, cl_mem at, double reach_scale, cl_int rewalk)
+{
+    const cl_int blocks = (cl_int)solver_lane_blocks(s), zero = 0, two = 2;
+    const cl_int capacity = (cl_int)s->lane_list_capacity;
+    struct real_arg a_scale;
+    if (!rewalk) {
+        SET_ARGS(s, s->k.fill_int, MEM("a", s->lane_list_claim), INT("value", zero), INT("n", two));
+        solver_launch(s, s->k.fill_int, 2, 0);
+    }
+    SET_ARGS(s, s->k.lane_list_build, MEM("at", at),
+             real_value(s, &a_scale, "reach_scale", reach_scale),
+             MEM("list_claim", s->lane_list_claim), INT("capacity", capacity),
+             INT("rewalk", rewalk), INT("n", s->n));
+    solver_launch(s, s->k.lane_list_build, (size_t)blocks, 0);
+}
+
 void solver_lane_lists_build(struct solver *s)
 {
     if (!s->lane_lists) { /* the passes walk the cells: tokens to bind */
@@ -322,39 +340,23 @@ void solver_lane_lists_build(struct solver *s)
         ensure_ints(s, &s->lane_list, &s->lane_list_capacity, 1);
         return;
     }
-    const cl_int blocks = (cl_int)solver_lane_blocks(s), zero = 0, two = 2;
-    ensure_ints(s, &s->lane_list_range, &s->lane_list_range_capacity, 2 * (long)blocks);
+    ensure_ints(s, &s->lane_list_range, &s->lane_list_range_capacity, 2 * solver_lane_blocks(s));
     ensure_ints(s, &s->lane_list_claim, &s->lane_list_claim_capacity, 2);
     ensure_ints(s, &s->lane_list, &s->lane_list_capacity, 1);
     const int tl = s->total_lagrangian;
-    struct real_arg a_scale;
     const double scale = (tl ? 1.0 : 1.0 + s->skin) * (1.0 + 1e-4);
     cl_mem at = s->field[tl ? FIELD_POS0 : FIELD_POS];
-    cl_int claim[2] = {0, 0}; /* entries claimed, blocks left to write */
-    for (cl_int rewalk = 0; rewalk < 2 && !cl_failed();) {
-        if (!rewalk) {
-            SET_ARGS(s, s->k.fill_int, MEM("a", s->lane_list_claim), INT("value", zero),
-                     INT("n", two));
-            solver_launch(s, s->k.fill_int, 2, 0);
-        }
-        const cl_int capacity = (cl_int)s->lane_list_capacity;
-        SET_ARGS(s, s->k.lane_list_build, MEM("at", at),
-                 real_value(s, &a_scale, "reach_scale", scale),
-                 MEM("list_claim", s->lane_list_claim), INT("capacity", capacity),
-                 INT("rewalk", rewalk), INT("n", s->n));
-        solver_launch(s, s->k.lane_list_build, (size_t)blocks, 0);
-        if (rewalk)
-            break;
-        CL_CHECK(clEnqueueReadBuffer(s->dev->queue, s->lane_list_claim, CL_TRUE, 0, sizeof claim,
-                                     claim, 0, NULL, NULL));
-        s->lane_list_entries = claim[0];
+    cl_int claim[2] = {0, 0}; /* entries claimed, blocks over their room */
+    do {                      /* the counts do not change: at most one growth */
         if (claim[0] > s->lane_list_capacity)
             ensure_ints(s, &s->lane_list, &s->lane_list_capacity, claim[0]);
-        else if (claim[1] > 0)
-            rewalk = 1;
-        else
-            break;
-    }
+        lane_list_launch(s, at, scale, 0);
+        CL_CHECK(clEnqueueReadBuffer(s->dev->queue, s->lane_list_claim, CL_TRUE, 0, sizeof claim,
+                                     claim, 0, NULL, NULL));
+    } while (!cl_failed() && claim[0] > s->lane_list_capacity);
+    s->lane_list_entries = claim[0];
+    if (claim[1] > 0)
+        lane_list_launch(s, at, scale, 1);
 }
 
 long solver_lane_blocks(const struct solver *s)

@@ -277,7 +277,7 @@ static inline realv lane_distance2(const realv xi[3], vec xj)
  * sums do not depend on where) and writes them there when they fit both the
  * private room and `capacity`; a block that does not counts itself in
  * list_claim[1]. If the list was short (list_claim[0] > capacity) the host
- * grows it and launches the first again; else, only if list_claim[1] > 0,
+ * grows it and launches the first again; then, only if list_claim[1] > 0,
  * it launches again with rewalk 1: the blocks with more candidates than
  * the room walk again and write into their claimed place directly.
  * reads: at (the positions the passes test: pos, or pos0 in the total
@@ -294,8 +294,8 @@ __kernel void lane_list_build(__global const vec *restrict at, __global const in
     if (block * SPH_LANES >= n) /* the launch rounds up: no entry of this block */
         return;
     int2 range = rewalk ? lane_list_range[block] : (int2)(0, 0);
-    if (rewalk && range.y - range.x <= SPH_LANE_LIST_ROOM && range.y <= capacity)
-        return; /* written by the first launch */
+    if (rewalk && range.y - range.x <= SPH_LANE_LIST_ROOM)
+        return; /* written by the first launch (the list was long enough) */
     struct lane_block b;
     if (!lane_block_setup(&b, flags, sort_keys, grid_dims, n)) {
         lane_list_range[block] = range;
