@@ -3,6 +3,7 @@
  * median over repeats gives particle-steps and pair interactions per second.
  * No output is written during the steps: this is the cost of the step. */
 #include "bench.h"
+#include "cpu_steal.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -70,6 +71,7 @@ struct scene_result {
     size_t bytes_per_slot;
     double device_bytes;    /* every buffer's size over the real particles */
     double lane_list_bytes; /* the lane lists' as allocated (measured) */
+    double steal_fraction;  /* CPU steal over the timed steps (NAN: unknown) */
     struct solver_memory memory;
     struct profiler profile;
 };
@@ -126,6 +128,7 @@ static int step_scene(struct solver *s, const struct sph_case *c, const struct b
     memset(&r->profile, 0, sizeof r->profile);
     r->profile.pairs_per_call = health.neighbours_mean * s->n_real;
     sph_profiler = &r->profile;
+    const struct cpu_times cpu_before = cpu_times_now();
     for (int rep = 0; rep < o->repeats; ++rep) {
         const double t0 = profile_clock();
         for (int k = 0; k < o->steps; ++k)
@@ -139,6 +142,8 @@ static int step_scene(struct solver *s, const struct sph_case *c, const struct b
         r->profile.wall_s += wall;
     }
     sph_profiler = NULL;
+    const struct cpu_times cpu_after = cpu_times_now();
+    r->steal_fraction = cpu_steal_fraction(&cpu_before, &cpu_after);
     profile_flush(&r->profile);
     r->steps = (long)o->steps * o->repeats;
     r->repeats = o->repeats;
@@ -213,6 +218,9 @@ static void print_scene(const struct scene_result *r, const struct device_ceilin
            r->name, r->particles, r->ghosts, r->neighbours_mean, r->repeats, r->steps / r->repeats,
            1e3 * r->median_s, r->particles / r->median_s, pairs / r->median_s,
            r->device_bytes / r->particles);
+    /* others' share of this VM's cores: timings are comparable where it is low */
+    if (isfinite(r->steal_fraction))
+        printf("CPU steal during the timed steps: %.1f%%\n", 100 * r->steal_fraction);
     profile_print(&r->profile, ceil, r->steps, stdout);
 }
 
@@ -245,6 +253,10 @@ static void write_scene_json(const struct scene_result *r, FILE *f)
             r->median_s, r->particles / r->median_s, pairs / r->median_s,
             r->device_bytes / r->particles, r->bytes_per_slot, r->lane_list_bytes / r->particles);
     write_memory_json(&r->memory, f);
+    if (isfinite(r->steal_fraction))
+        fprintf(f, ",\n     \"cpu_steal_fraction\": %.4g", r->steal_fraction);
+    else
+        fprintf(f, ",\n     \"cpu_steal_fraction\": null");
     fprintf(f,
             ",\n     \"wall_s\": %.6g, \"device_s\": %.6g,\n     \"kernels\": ", r->profile.wall_s,
             profile_device_seconds(&r->profile));

@@ -50,6 +50,9 @@ def main():
                         "particle_steps_per_s", "pair_interactions_per_s", "bytes_per_particle"):
                 if not positive(scene.get(key)):
                     failures.append(f"{scene['name']}: {key} = {scene.get(key)}")
+            steal = scene.get("cpu_steal_fraction", "absent")
+            if steal is not None and not (isinstance(steal, (int, float)) and 0 <= steal <= 1):
+                failures.append(f"{scene['name']}: cpu_steal_fraction = {steal}")
             check_kernels(scene["name"], scene["kernels"], failures)
             if sum(scene["memory_bytes_per_slot"].values()) != scene["bytes_per_slot"]:
                 failures.append(f"{scene['name']}: the memory breakdown does not add up")
