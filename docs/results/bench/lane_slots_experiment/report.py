@@ -6,7 +6,7 @@ particle-steps/s, and base / slots.
 
   FOLDER/{SCENE}_{base,slots}_{ROUND}.json  sph bench --json (run.sh)
 
-usage: report.py FOLDER
+usage: report.py FOLDER [OTHER]   (OTHER: the second build's name, default slots)
 """
 import glob
 import json
@@ -25,11 +25,12 @@ def load(path):
 
 def main():
     folder = sys.argv[1] if len(sys.argv) > 1 else "."
+    other = sys.argv[2] if len(sys.argv) > 2 else "slots"
     names = sorted(glob.glob(os.path.join(folder, "*_base_*.json")))
-    print("scene round | base: step pass1 pass2 build (ms) Mps | slots: same | base/slots step")
+    print(f"scene round | base: step pass1 pass2 build (ms) Mps | {other}: same | base/{other} step")
     for base in names:
         scene, _, rnd = os.path.basename(base)[:-5].rsplit("_", 2)
-        slots = base.replace("_base_", "_slots_")
+        slots = base.replace("_base_", f"_{other}_")
         b, s = load(base), load(slots)
         print(f"{scene} {rnd} | " + " ".join(f"{v:6.1f}" for v in b[:4]) + f" {b[4]:.2f} | "
               + " ".join(f"{v:6.1f}" for v in s[:4]) + f" {s[4]:.2f} | {b[0] / s[0]:.3f}")
