@@ -454,9 +454,10 @@ void solver_step(struct solver *s, double dt, double dt_prev, const double load[
         plane[a] = s->ghosts.plane[a];
     }
     struct real4_arg a_side, a_plane;
+    struct real_arg a_gap;
     SET_ARGS(s, s->k.drift, real_value(s, &a_dt, "dt", dt),
              real4_value(s, &a_plane, "plane", plane), real4_value(s, &a_side, "side", side),
-             INT("n", s->n));
+             real_value(s, &a_gap, "plane_gap", 0.25 * s->dx), INT("n", s->n));
     solver_launch(s, s->k.drift, (size_t)s->n, 0);
 }
 

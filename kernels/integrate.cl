@@ -94,24 +94,30 @@ __kernel void integrate_kick(__global vec *restrict vel, __global vec *restrict 
 /* The displacement, not the position, is integrated: in single precision a
  * position of 0.1 m has an ulp of 7e-9 m, more than a slow particle moves in
  * a step, while the displacement keeps its increments to N_steps * 2^-24.
- * A particle that would cross a symmetry plane (side[a] = +1 or -1 on the
- * plane's axis a, 0 elsewhere) is reflected back and its normal velocity
- * reversed, as its mirror image would meet it: material swept onto the axis
- * of an axisymmetric case (a cavity closing) must not pass it.
+ * A particle that would come within a quarter of its spacing of a symmetry
+ * plane (side[a] = +1 or -1 on the plane's axis a, 0 elsewhere; the gap is
+ * plane_gap times its level's spacing scale) moving towards it is reflected
+ * back off that gap and its normal velocity reversed, as its mirror image
+ * would meet it: material swept onto the axis of an axisymmetric case (a
+ * cavity closing) must not pass it, and a particle may not sit on the plane
+ * within a few nanometres of its own image, where the kernel's gradient,
+ * and so the pair's repulsion, vanishes while the continuity equation
+ * still compresses it (the 3-D SEBS quarter at d/dx 10 went unstable so at
+ * 305 ns: docs/validation_penetration.md). A lattice starts half a spacing
+ * from the plane, so the gap touches only material driven onto it.
  * The drift also writes what the material update (run inside pass 1 in
  * the updated Lagrangian form) must leave to after every particle's pass 1:
  * the new density rho0 + density_change, and the damage flag.
  * reads xsph_velocity, pos0, density_change, plastic_strain, material;
  * updates vel_half, displacement, flags; writes pos, rho. */
-__kernel void integrate_drift(__global vec *restrict pos, __global vec *restrict displacement,
-                              __global const vec *restrict pos0, __global vec *restrict vel_half,
-                              __global const vec *restrict xsph_velocity,
-                              __global int *restrict flags, __global real *restrict rho,
-                              __global const real *restrict density_change,
-                              __global const real *restrict plastic_strain,
-                              __global const int *restrict material,
-                              __constant const struct sph_material *materials, const real dt,
-                              const real4 plane, const real4 side, const int n)
+__kernel void
+integrate_drift(__global vec *restrict pos, __global vec *restrict displacement,
+                __global const vec *restrict pos0, __global vec *restrict vel_half,
+                __global const vec *restrict xsph_velocity, __global int *restrict flags,
+                __global real *restrict rho, __global const real *restrict density_change,
+                __global const real *restrict plastic_strain, __global const int *restrict material,
+                __constant const struct sph_material *materials, const real dt, const real4 plane,
+                const real4 side, const real plane_gap, const int n)
 {
     const int i = get_global_id(0);
     if (i >= n || (flags[i] & SPH_FLAG_GHOST))
@@ -127,13 +133,16 @@ __kernel void integrate_drift(__global vec *restrict pos, __global vec *restrict
     real x[3] = {vec_get(x0 + u, 0), vec_get(x0 + u, 1), vec_get(x0 + u, 2)};
     real v[3] = {vec_get(vel_half[i], 0), vec_get(vel_half[i], 1), vec_get(vel_half[i], 2)};
     const real planes[3] = {plane.x, plane.y, plane.z}, sides[3] = {side.x, side.y, side.z};
+    const real gap = plane_gap * spacing_scale(flags[i]);
     bool reflected = false;
-    for (int a = 0; a < SPH_DIM; ++a)
-        if (sides[a] != 0 && (x[a] - planes[a]) * sides[a] < 0) {
-            x[a] = (real)2 * planes[a] - x[a];
-            v[a] = -v[a];
+    for (int a = 0; a < SPH_DIM; ++a) {
+        const real d = (x[a] - planes[a]) * sides[a], towards = v[a] * sides[a];
+        if (sides[a] != 0 && (d < 0 || (d < gap && towards < 0))) {
+            x[a] = (real)2 * (planes[a] + sides[a] * gap) - x[a];
+            v[a] = towards < 0 ? -v[a] : v[a];
             reflected = true;
         }
+    }
     if (reflected) {
         const vec moved = vec_make(x[0], x[1], x[2]);
         vel_half[i] = vec_make(v[0], v[1], v[2]);
