@@ -304,17 +304,6 @@ static void ensure_ints(struct solver *s, cl_mem *m, long *capacity, long count)
     *m = solver_create_buffer(s, sizeof(cl_int) * (size_t)*capacity);
 }
 
-/* The candidates within reach_scale x the pair's support of some lane at
- * the sort: 1 + skin in the updated form (the grid's margin: the list
- * serves until the next sort, as the cells do), 1 in the total Lagrangian
- * form (its reference positions never move); 1e-4 more for the rounding of
- * the distance tests, so that the list holds every candidate a pass's test
- * can accept. One walk per sort and one read-back (the entries claimed and
- * the blocks left to write; kernels/lanes.cl, lane_list_build). A list too
- * short is grown and the walk done again; the list starts empty, so every
- * run takes that path at its first sort and keeps a quarter more than it
- * used. A block with more candidates than its private room is walked again
- * alone, writing straight into its claimed place. */
 /* One launch of lane_list_build: the first walk (rewalk 0, list_claim
  * zeroed first) or the second, of the blocks over their room. */
 static void lane_list_launch(struct solver *s, cl_mem at, double reach_scale, cl_int rewalk)
@@ -333,6 +322,17 @@ static void lane_list_launch(struct solver *s, cl_mem at, double reach_scale, cl
     solver_launch(s, s->k.lane_list_build, (size_t)blocks, 0);
 }
 
+/* The candidates within reach_scale x the pair's support of some lane at
+ * the sort: 1 + skin in the updated form (the grid's margin: the list
+ * serves until the next sort, as the cells do), 1 in the total Lagrangian
+ * form (its reference positions never move); 1e-4 more for the rounding of
+ * the distance tests, so that the list holds every candidate a pass's test
+ * can accept. One walk per sort and one read-back (the entries claimed and
+ * the blocks left to write; kernels/lanes.cl, lane_list_build). A list too
+ * short is grown and the walk done again; the list starts empty, so every
+ * run takes that path at its first sort and keeps a quarter more than it
+ * used. A block with more candidates than its private room is walked again
+ * alone, writing straight into its claimed place. */
 void solver_lane_lists_build(struct solver *s)
 {
     if (!s->lane_lists) { /* the passes walk the cells: tokens to bind */
