@@ -173,6 +173,18 @@ static int write_snapshot(struct loop *L)
     return status;
 }
 
+/* "42 s", "12 min 05 s", "2 h 27 min": an ETA a person reads at a glance */
+static void format_duration(char *text, size_t size, double seconds)
+{
+    const long s = seconds > 0 && seconds < 1e9 ? (long)(seconds + 0.5) : 0;
+    if (s < 60)
+        snprintf(text, size, "%ld s", s);
+    else if (s < 3600)
+        snprintf(text, size, "%ld min %02ld s", s / 60, s % 60);
+    else
+        snprintf(text, size, "%ld h %02ld min", s / 3600, (s % 3600) / 60);
+}
+
 static void progress(struct loop *L, int final)
 {
     const double now = wall_seconds();
@@ -184,15 +196,15 @@ static void progress(struct loop *L, int final)
     const double eta = L->t > L->first_t ? elapsed * (end - L->t) / (L->t - L->first_t) : 0;
     if (L->opt->quiet)
         return;
-    if (isatty(fileno(stderr))) {
-        fprintf(stderr, "\r  t = %.4e s (%5.1f%%)  step %ld  %.0f steps/s  ETA %.0f s   %s", L->t,
-                100 * L->t / end, L->step, rate, eta, final ? "\n" : "");
-        L->next_progress_wall = now + 0.5;
-    } else {
-        fprintf(stderr, "  t = %.4e s (%5.1f%%)  step %ld  %.0f steps/s  ETA %.0f s\n", L->t,
-                100 * L->t / end, L->step, rate, eta);
-        L->next_progress_wall = now + 10.0;
-    }
+    char eta_text[32];
+    format_duration(eta_text, sizeof eta_text, eta);
+    /* a large 3-D run takes about one step a second: two decimals there */
+    const int rate_decimals = rate < 10 ? 2 : 0;
+    const int tty = isatty(fileno(stderr));
+    fprintf(stderr, "%s  t = %.4e s (%5.1f%%)  step %ld  %.*f steps/s  ETA %s%s", tty ? "\r" : "",
+            L->t, 100 * L->t / end, L->step, rate_decimals, rate, eta_text,
+            tty ? (final ? "   \n" : "   ") : "\n");
+    L->next_progress_wall = now + (tty ? 0.5 : 10.0);
     fflush(stderr);
 }
 
@@ -343,8 +355,8 @@ static void print_summary_line(const struct run_summary *sum, const char *folder
     else if (sum->has_projectile)
         printf(" | P_max %.4g um at %.4g ns", 1e6 * sum->max_penetration_m,
                1e9 * sum->time_of_max_penetration_s);
-    printf(" | %d particles, %ld steps, %.1f s wall, %.0f steps/s", sum->particles, sum->steps,
-           sum->wall_time_s, sum->steps_per_s);
+    printf(" | %d particles, %ld steps, %.1f s wall, %.*f steps/s", sum->particles, sum->steps,
+           sum->wall_time_s, sum->steps_per_s < 10 ? 2 : 0, sum->steps_per_s);
     if (dist_size() > 1)
         printf(", %d processes", dist_size());
     printf(" | %s\n", folder);
