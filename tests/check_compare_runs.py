@@ -1,11 +1,13 @@
 #!/usr/bin/python3
 """tools/compare_runs.py on histories whose answers are known: a reference
-depth A sin(w t) (P_max = A at t = pi / (2 w)), read between its rows
-to the sine within the table's 0.01 um, a run 2% shallower at every time (every cell and P_max -2.00%, the same t(P_max)), a run whose
-history stops before its maximum (blank past its end, its P_max marked as
-not yet one), and two files it must refuse: one without penetration_m
-(an error naming the file, line 1 and the column) and one with a word
-where a number belongs (naming the file and line 4).
+depth A sin(w t) (P_max = A at t = pi / (2 w)), read between its rows to
+the sine within the table's 0.01 um, a run 2% shallower at every time
+(every cell and P_max -2.00%, the same t(P_max)), a run whose history
+stops before its maximum (blank past its end, its P_max marked as not yet
+one), one deepest at its last row but already moving back (a maximum, not
+marked), and two files it must refuse: one without penetration_m (an error
+naming the file, line 1 and the column) and one with a word where a number
+belongs (naming the file and line 4).
 
 usage: check_compare_runs.py TOOL WORK
 """
@@ -69,6 +71,13 @@ def main():
         failures.append("t(P_max) is not 500 ns for both full runs")
     if len(short_row) != 5 or short_row[2] != "" or "not yet a maximum" not in short_row[3]:
         failures.append(f"the short run is not blank past its end and unmarked: {short_row}")
+    # deepest at its last row, but already moving back there: a maximum
+    turning = os.path.join(work, "turning.csv")
+    with open(turning, "w") as f:
+        f.write("time_s,penetration_m,velocity_m_per_s\n0,0,10\n1e-9,5e-6,1\n2e-9,5.1e-6,-0.1\n")
+    proc = run(tool, turning, turning, "--out", png)
+    if proc.returncode != 0 or "not yet" in proc.stdout or "5.10 (+0.00%)" not in proc.stdout:
+        failures.append(f"a history that ends turning back is not a maximum: {proc.stdout!r}")
     if not os.path.isfile(png) or os.path.getsize(png) < 1000:
         failures.append("no plot written")
     missing = os.path.join(work, "missing.csv")

@@ -15,9 +15,11 @@ with the columns time_s and penetration_m (SI units; velocity_m_per_s is
 plotted when present), such as another code's history exported by hand.
 --times (s) are the times of the table's columns (default: eight evenly
 spaced up to the shortest history's end); a time past a history's end
-is left blank for it. Prints a markdown table (depth in um, time in ns,
-the difference from the reference in %) and writes the plot (default
-compare_runs.png beside the working folder), its path as the last line.
+is left blank for it. A P_max at a history's last row is marked as not
+yet a maximum unless the sphere was already moving back there
+(velocity_m_per_s <= 0). Prints a markdown table (depth in um, time in
+ns, the difference from the reference in %) and writes the plot (default
+compare_runs.png in the working folder), its path as the last line.
 Exits 1 with the file, line and what was expected on input it cannot read.
 """
 import argparse
@@ -78,6 +80,14 @@ def maximum_depth(history):
     return history["penetration_m"][i], history["time_s"][i]
 
 
+def still_going(history):
+    """Whether the deepest row is the last and the sphere was not yet
+    turning back there (velocity_m_per_s > 0, or unknown)."""
+    if int(np.argmax(history["penetration_m"])) != len(history["time_s"]) - 1:
+        return False
+    return "velocity_m_per_s" not in history or history["velocity_m_per_s"][-1] > 0
+
+
 def depth_at(history, t):
     """The depth at time t (m), linear between rows; None past the end."""
     if t > history["time_s"][-1] or t < history["time_s"][0]:
@@ -105,7 +115,7 @@ def table(labels, histories, times):
             cells.append("" if d is None else f"{1e6 * d:.2f}" +
                          ("" if h is ref else f" ({percent(d, depth_at(ref, t))})"))
         p_max, t_max = maximum_depth(h)
-        if t_max == h["time_s"][-1]:  # still going deeper when the history ends
+        if still_going(h):
             cells.append(f"{1e6 * p_max:.2f} (at the end: not yet a maximum)")
         else:
             cells.append(f"{1e6 * p_max:.2f}" +
