@@ -96,9 +96,10 @@ def depth_at(history, t):
 
 
 def percent(value, reference):
+    """The difference from the reference as ' (+1.23%)'; empty where either has no value."""
     if value is None or reference is None or reference == 0:
         return ""
-    return f"{100 * (value / reference - 1):+.2f}%"
+    return f" ({100 * (value / reference - 1):+.2f}%)"
 
 
 def table(labels, histories, times):
@@ -113,13 +114,12 @@ def table(labels, histories, times):
         for t in times:
             d = depth_at(h, t)
             cells.append("" if d is None else f"{1e6 * d:.2f}" +
-                         ("" if h is ref else f" ({percent(d, depth_at(ref, t))})"))
+                         ("" if h is ref else percent(d, depth_at(ref, t))))
         p_max, t_max = maximum_depth(h)
         if still_going(h):
             cells.append(f"{1e6 * p_max:.2f} (at the end: not yet a maximum)")
         else:
-            cells.append(f"{1e6 * p_max:.2f}" +
-                         ("" if h is ref else f" ({percent(p_max, ref_max)})"))
+            cells.append(f"{1e6 * p_max:.2f}" + ("" if h is ref else percent(p_max, ref_max)))
         cells.append(f"{1e9 * t_max:.0f}")
         lines.append("| " + " | ".join(cells) + " |")
     return lines
