@@ -173,10 +173,19 @@ static int write_snapshot(struct loop *L)
     return status;
 }
 
-/* "42 s", "12 min 05 s", "2 h 27 min": an ETA a person reads at a glance */
+/* "42 s", "12 min 05 s", "2 h 27 min": an ETA a person reads at a glance
+ * ("?" before there is one; a collapsing time step's ETA stays in hours) */
 static void format_duration(char *text, size_t size, double seconds)
 {
-    const long s = seconds > 0 && seconds < 1e9 ? (long)(seconds + 0.5) : 0;
+    if (!(seconds >= 0) || !isfinite(seconds)) {
+        snprintf(text, size, "?");
+        return;
+    }
+    if (seconds >= 1e9) {
+        snprintf(text, size, "%.3g h", seconds / 3600);
+        return;
+    }
+    const long s = (long)(seconds + 0.5);
     if (s < 60)
         snprintf(text, size, "%ld s", s);
     else if (s < 3600)

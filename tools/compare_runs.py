@@ -23,7 +23,6 @@ compare_runs.png in the working folder), its path as the last line.
 Exits 1 with the file, line and what was expected on input it cannot read.
 """
 import argparse
-import csv
 import os
 import sys
 
@@ -32,6 +31,9 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import studylib  # noqa: E402
 
 REQUIRED = ("time_s", "penetration_m")
 
@@ -46,26 +48,9 @@ def read_history(source):
     """{column: array} of a run's ballistics (time_s, penetration_m, and
     velocity_m_per_s when present); exits naming the file and line."""
     path = history_path(source)
-    try:
-        with open(path, newline="") as f:
-            reader = csv.DictReader(f)
-            header = reader.fieldnames or []
-            missing = [c for c in REQUIRED if c not in header]
-            if missing:
-                sys.exit(f"compare_runs: {path}:1: expected the columns {', '.join(REQUIRED)}; "
-                         f"missing {', '.join(missing)}")
-            keep = [c for c in REQUIRED + ("velocity_m_per_s",) if c in header]
-            columns = {c: [] for c in keep}
-            for line, row in enumerate(reader, start=2):
-                for c in keep:
-                    try:
-                        columns[c].append(float(row[c]))
-                    except (TypeError, ValueError):
-                        sys.exit(f"compare_runs: {path}:{line}: expected a number in column {c}, "
-                                 f"found {row[c]!r}")
-    except OSError as e:
-        sys.exit(f"compare_runs: cannot read {path} (a run folder or a ballistics CSV file "
-                 f"expected): {e.strerror}")
+    if not os.path.exists(path):
+        sys.exit(f"compare_runs: cannot read {path}: expected a run folder or a ballistics CSV file")
+    columns = studylib.read_columns(path, "compare_runs", REQUIRED, ("velocity_m_per_s",))
     if len(columns["time_s"]) < 2:
         sys.exit(f"compare_runs: {path}: expected at least two rows of history")
     history = {c: np.array(v) for c, v in columns.items()}

@@ -7,7 +7,6 @@ sphere's depth, velocity, decelerating force and the cavity diameters
 usage: tools/plot_run.py RUN_FOLDER [--out FILE.png]
 """
 import argparse
-import csv
 import json
 import os
 import sys
@@ -17,18 +16,17 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import studylib  # noqa: E402
+
 
 def read_csv(path, required=True):
-    try:
-        with open(path, newline="") as f:
-            rows = list(csv.DictReader(f))
-    except OSError as e:
-        if not required:
-            return None
-        sys.exit(f"plot_run: cannot read {path}: {e.strerror}")
-    if not rows:
-        sys.exit(f"plot_run: {path} has no rows")
-    return {k: [float(r[k]) for r in rows] for k in rows[0]}
+    """Every column of a run's CSV (studylib.read_columns); None for a
+    missing file that is not `required` (a run without a projectile has no
+    ballistics.csv)."""
+    if not required and not os.path.exists(path):
+        return None
+    return studylib.read_columns(path, "plot_run")
 
 
 def read_summary(folder):

@@ -1,8 +1,9 @@
-"""What the study tools share: running `sph` on a case, writing a table
-as CSV and Markdown, the Richardson estimate from three spacings, and a
+"""What the study tools share: running `sph` on a case, reading a run's
+CSV columns with errors that name the file and line, writing a table as
+CSV and Markdown, the Richardson estimate from three spacings, and a
 sphere's resistance over a window of its ballistics.csv
 (tools/beam_study.py, tools/taylor_study.py, tools/penetration_study.py,
-tools/towed_sphere_drag.py)."""
+tools/towed_sphere_drag.py, tools/plot_run.py, tools/compare_runs.py)."""
 import csv
 import json
 import math
@@ -29,6 +30,37 @@ def run(case, out, sets, tool):
         sys.exit(f"{tool}: sph exited with {proc.returncode}")
     with open(os.path.join(out, "summary.json")) as f:
         return json.load(f)
+
+
+def read_columns(path, tool, required=None, optional=()):
+    """{column: [float, ...]} of a CSV file with a header row (history.csv,
+    ballistics.csv, or another code's curve): the `required` and `optional`
+    columns, or every column when `required` is None. Exits naming `tool`,
+    the file and the line on a missing file or column, a cell that is not
+    a number, or a file without rows."""
+    try:
+        with open(path, newline="") as f:
+            reader = csv.DictReader(f)
+            header = reader.fieldnames or []
+            wanted = list(header) if required is None else list(required)
+            missing = [c for c in wanted if c not in header]
+            if missing:
+                sys.exit(f"{tool}: {path}:1: expected the columns {', '.join(wanted)}; "
+                         f"missing {', '.join(missing)}")
+            keep = wanted + [c for c in optional if c in header and c not in wanted]
+            columns = {c: [] for c in keep}
+            for line, row in enumerate(reader, start=2):
+                for c in keep:
+                    try:
+                        columns[c].append(float(row[c]))
+                    except (TypeError, ValueError):
+                        sys.exit(f"{tool}: {path}:{line}: expected a number in column {c}, "
+                                 f"found {row[c]!r}")
+    except OSError as e:
+        sys.exit(f"{tool}: cannot read {path}: {e.strerror}")
+    if not keep or not columns[keep[0]]:
+        sys.exit(f"{tool}: {path} has no rows")
+    return columns
 
 
 def resistance_in_window(rows, d, t0, t1):
