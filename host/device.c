@@ -21,6 +21,7 @@ static const char *const source_files[] = {
     "kernels/lane_types.cl",
     "kernels/smoothing.cl",
     "kernels/common.cl",
+    "kernels/matrix.cl",
     "kernels/grid.cl",
     "kernels/material_models.cl",
     "kernels/material.cl",

@@ -263,55 +263,8 @@ static inline void matrix_product(real a[3][3], real b[3][3], real out[3][3])
         }
 }
 
-static inline void matrix_identity(real c[3][3])
-{
-#pragma unroll
-    for (int a = 0; a < 3; ++a)
-#pragma unroll
-        for (int e = 0; e < 3; ++e)
-            c[a][e] = a == e ? (real)1 : (real)0;
-}
-
-/* Inverse of a dim x dim matrix whose determinant is near 1 (a CSPH moment
- * matrix, a deformation gradient); falls back to the identity when the
- * determinant is below half a right-angled corner's. A moment matrix
- * B = sum_j V_j x_ji (x) grad W is I inside the body, I / 2 at a flat free
- * surface and I / 4 (2-D) or I / 8 (3-D) at a corner, det 1/16 or 1/512;
- * a smaller one is a neighbourhood that does not determine a gradient
- * (spray and debris with a few neighbours, a line of particles), and its
- * inverse would multiply that neighbourhood's velocity differences by up to
- * 1 / det. With a 1e-3 threshold a debris particle at a cavity's lip was
- * compressed to 1.5 rho0 within a few steps (gelatin, d/dx = 8, energy
- * drift 0.51); with this one the run's drift is 0.07. */
-static inline void matrix_invert_or_identity(real b[3][3], real c[3][3])
-{
-    matrix_identity(c);
-#if SPH_DIM == 2
-    const real det = b[0][0] * b[1][1] - b[0][1] * b[1][0];
-    if (fabs(det) < (real)(1.0 / 32.0))
-        return;
-    c[0][0] = b[1][1] / det;
-    c[0][1] = -b[0][1] / det;
-    c[1][0] = -b[1][0] / det;
-    c[1][1] = b[0][0] / det;
-#else
-    const real det = b[0][0] * (b[1][1] * b[2][2] - b[1][2] * b[2][1]) -
-                     b[0][1] * (b[1][0] * b[2][2] - b[1][2] * b[2][0]) +
-                     b[0][2] * (b[1][0] * b[2][1] - b[1][1] * b[2][0]);
-    if (fabs(det) < (real)(1.0 / 1024.0))
-        return;
-    const real inv = (real)1 / det;
-    c[0][0] = (b[1][1] * b[2][2] - b[1][2] * b[2][1]) * inv;
-    c[0][1] = (b[0][2] * b[2][1] - b[0][1] * b[2][2]) * inv;
-    c[0][2] = (b[0][1] * b[1][2] - b[0][2] * b[1][1]) * inv;
-    c[1][0] = (b[1][2] * b[2][0] - b[1][0] * b[2][2]) * inv;
-    c[1][1] = (b[0][0] * b[2][2] - b[0][2] * b[2][0]) * inv;
-    c[1][2] = (b[0][2] * b[1][0] - b[0][0] * b[1][2]) * inv;
-    c[2][0] = (b[1][0] * b[2][1] - b[1][1] * b[2][0]) * inv;
-    c[2][1] = (b[0][1] * b[2][0] - b[0][0] * b[2][1]) * inv;
-    c[2][2] = (b[0][0] * b[1][1] - b[0][1] * b[1][0]) * inv;
-#endif
-}
+/* matrix_identity, matrix_invert_or_identity and the CSPH correction:
+ * kernels/matrix.cl (host-compilable, tests/test_matrix.c). */
 
 /* A neighbour's mass as the sums over the plane weigh it. Axisymmetric
  * (SPH_AXISYMMETRIC, x = r, y = z): the mass field holds the ring's mass

@@ -51,41 +51,7 @@ static inline void jaumann_stress_rate(real s[3][3], real d[3][3], real w[3][3],
 }
 
 #ifdef SPH_ARTIFICIAL_STRESS
-/* Eigen-decomposition of a symmetric 3x3 by cyclic Jacobi rotations; on
- * return t is diagonal (the eigenvalues) and v holds the eigenvectors as
- * columns. Six sweeps reach float round-off for any input. */
-static inline void symmetric_eigen(real t[3][3], real v[3][3])
-{
-    matrix_identity(v);
-    for (int sweep = 0; sweep < 6; ++sweep)
-        for (int p = 0; p < 2; ++p)
-            for (int q = p + 1; q < 3; ++q) {
-                if (fabs(t[p][q]) < (real)1e-30)
-                    continue;
-                const real theta = (t[q][q] - t[p][p]) / ((real)2 * t[p][q]);
-                const real tan_phi = (theta >= 0 ? (real)1 : (real)-1) /
-                                     (fabs(theta) + sqrt(theta * theta + (real)1));
-                const real c = (real)1 / sqrt(tan_phi * tan_phi + (real)1), s = tan_phi * c;
-#pragma unroll
-                for (int k = 0; k < 3; ++k) { /* t <- t J */
-                    const real tkp = t[k][p], tkq = t[k][q];
-                    t[k][p] = c * tkp - s * tkq;
-                    t[k][q] = s * tkp + c * tkq;
-                }
-#pragma unroll
-                for (int k = 0; k < 3; ++k) { /* t <- J^T t */
-                    const real tpk = t[p][k], tqk = t[q][k];
-                    t[p][k] = c * tpk - s * tqk;
-                    t[q][k] = s * tpk + c * tqk;
-                }
-#pragma unroll
-                for (int k = 0; k < 3; ++k) {
-                    const real vkp = v[k][p], vkq = v[k][q];
-                    v[k][p] = c * vkp - s * vkq;
-                    v[k][q] = s * vkp + c * vkq;
-                }
-            }
-}
+/* symmetric_eigen: kernels/matrix.cl */
 
 /* Monaghan (2000) / Gray, Monaghan & Swift (2001) eqs. 23-25: in the
  * principal frame R^a = -epsilon sigma^a / rho^2 where sigma^a > 0, else 0;

@@ -43,7 +43,7 @@ static inline void pass1_finish(
 #endif
 #ifdef SPH_CSPH
     real c[3][3], corrected[3][3];
-    matrix_invert_or_identity(moment, c);
+    csph_correction(moment, c);
     matrix_product(grad_v, c, corrected);
 #pragma unroll
     for (int a = 0; a < 3; ++a)

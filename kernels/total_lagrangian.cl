@@ -72,7 +72,7 @@ __kernel void tl_correction(__global const vec *restrict pos0, __global const re
     }
     END_FOR_EACH_NEIGHBOUR
     real c[3][3];
-    matrix_invert_or_identity(moment, c);
+    csph_correction(moment, c);
     csph[i] = symt_store(c); /* symmetric: grad W_ij is along X_ij */
 }
 
