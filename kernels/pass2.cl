@@ -142,21 +142,23 @@ static inline void store_xsph(__global vec *restrict xsph_velocity, int i, vec s
 #endif
 }
 
-/* What pass 2 holds of its own particles, one lane each: sigma / rho (the
- * stress carries 1 / rho_i once), and the fields each option reads. */
+/* What pass 2 holds of its own particles, one lane each: the stress as its
+ * traction takes the kernel gradient, sigma_g = sigma C^T / rho (C the CSPH
+ * correction, else I; 1 / rho_i carried once), so that t_i = sigma_g . g
+ * costs one product per pair where C^T g and then sigma . (C^T g) cost two
+ * (gelatin3d-1m: docs/performance.md, session 35); and the fields each
+ * option reads. */
 struct pass2_lanes_i {
-    realv x[3], v[3], rho, inv_rho, sigma[3][3], c;
+    realv x[3], v[3], rho, inv_rho, sigma_g[3][3], c;
 #ifdef SPH_AXISYMMETRIC
-    realv r, inv_r; /* axis_radius of x and its reciprocal */
+    realv r, inv_r;    /* axis_radius of x and its reciprocal */
+    realv hoop_stress; /* sigma_tt / rho */
 #endif
 #ifdef SPH_ARTIFICIAL_STRESS
     realv as[3][3];
 #ifndef SPH_AS_LATTICE_WEIGHT
     realv x0[3];
 #endif
-#endif
-#ifdef SPH_CSPH
-    realv csph[3][3];
 #endif
 #ifdef SPH_AV_LIMITED
     realv l[3][3];
@@ -232,19 +234,41 @@ static inline void pass2_gather(
     gather_vec(vel, b, n, I->v);
     I->rho = SPH_SELECT((realv)1, gather_real(rho, b, n), b->live);
     I->inv_rho = (real)1 / I->rho;
-    gather_symt(deviatoric_stress, b, n, I->sigma);
+    realv sigma[3][3];
+    gather_symt(deviatoric_stress, b, n, sigma);
     const realv p = gather_real(pressure, b, n);
 #pragma unroll
     for (int a = 0; a < 3; ++a) {
-        I->sigma[a][a] -= p; /* total_stress, lane by lane */
+        sigma[a][a] -= p; /* total_stress, lane by lane */
 #pragma unroll
         for (int c = 0; c < 3; ++c)
-            I->sigma[a][c] *= I->inv_rho;
+            sigma[a][c] *= I->inv_rho;
     }
+#ifdef SPH_CSPH
+    realv c_i[3][3];
+    gather_symt(csph, b, n, c_i);
+#pragma unroll
+    for (int a = 0; a < 3; ++a)
+#pragma unroll
+        for (int k = 0; k < 3; ++k) {
+            I->sigma_g[a][k] = (realv)0;
+#pragma unroll
+            for (int c = 0; c < SPH_DIM; ++c)
+                I->sigma_g[a][k] += sigma[a][c] * c_i[k][c];
+        }
+#else
+    (void)csph;
+#pragma unroll
+    for (int a = 0; a < 3; ++a)
+#pragma unroll
+        for (int k = 0; k < 3; ++k)
+            I->sigma_g[a][k] = sigma[a][k];
+#endif
     I->c = gather_real(sound_speed, b, n);
 #ifdef SPH_AXISYMMETRIC
     I->r = fmax(fabs(I->x[0]), run->axis_radius); /* common.cl axis_radius */
     I->inv_r = (real)1 / I->r;
+    I->hoop_stress = sigma[2][2];
 #else
     (void)run;
 #endif
@@ -256,11 +280,6 @@ static inline void pass2_gather(
 #else
     (void)artificial_stress;
     (void)pos0;
-#endif
-#ifdef SPH_CSPH
-    gather_symt(csph, b, n, I->csph);
-#else
-    (void)csph;
 #endif
 #ifdef SPH_AV_LIMITED
     gather_fullt(velocity_gradient, b, n, I->l);
@@ -296,11 +315,10 @@ static inline realv pass2_viscosity(const struct pass2_lanes_i *I, realv vx, rea
                                      I->alpha, I->beta_per_alpha, j, av_alpha, run);
 }
 
-/* The kernel gradient g = grad_i W_ij, and as each side's stress sees it:
- * g_i = C_i^T g, g_j = C_j^T g with CSPH (Bonet & Lok 1999), else g. */
-static inline void pass2_gradients(const struct pass2_lanes_i *I, realv dwdr_r, realv xij[3],
-                                   __global const symt *restrict csph, int j, realv grad[3],
-                                   realv g_i[3], realv g_j[3])
+/* The kernel gradient g = grad_i W_ij, and as j's stress sees it: g_j =
+ * C_j^T g with CSPH (Bonet & Lok 1999), else g (i's C_i^T is in sigma_g). */
+static inline void pass2_gradients(realv dwdr_r, realv xij[3], __global const symt *restrict csph,
+                                   int j, realv grad[3], realv g_j[3])
 {
 #pragma unroll
     for (int a = 0; a < 3; ++a)
@@ -310,20 +328,17 @@ static inline void pass2_gradients(const struct pass2_lanes_i *I, realv dwdr_r, 
     symt_load(csph[j], c_j);
 #pragma unroll
     for (int a = 0; a < 3; ++a) {
-        g_i[a] = g_j[a] = (realv)0;
+        g_j[a] = (realv)0;
 #pragma unroll
-        for (int c = 0; c < SPH_DIM; ++c) {
-            g_i[a] += I->csph[c][a] * grad[c];
+        for (int c = 0; c < SPH_DIM; ++c)
             g_j[a] += c_j[c][a] * grad[c];
-        }
     }
 #else
-    (void)I;
     (void)csph;
     (void)j;
 #pragma unroll
     for (int a = 0; a < 3; ++a)
-        g_i[a] = g_j[a] = grad[a];
+        g_j[a] = grad[a];
 #endif
 }
 
@@ -368,11 +383,11 @@ static inline void pass2_artificial_stress(const struct pass2_lanes_i *I, realv 
 }
 #endif
 
-/* The pair's stress tractions t_i = (sigma_i / rho_i) . g_i and t_j =
- * sigma_j . g_j (the 1 / rho_i of t_j and 1 / rho_j of both are applied by
- * the caller), sigma = S - p I. */
+/* The pair's stress tractions t_i = (sigma_i / rho_i) . C_i^T g =
+ * sigma_g . g and t_j = sigma_j . g_j (the 1 / rho_i of t_j and 1 / rho_j
+ * of both are applied by the caller), sigma = S - p I. */
 static inline void pass2_tractions(const struct pass2_lanes_i *I, real pressure_j, symt dev_j,
-                                   const realv g_i[3], const realv g_j[3], realv t_i[3],
+                                   const realv grad[3], const realv g_j[3], realv t_i[3],
                                    realv t_j[3])
 {
     real sigma_j[3][3];
@@ -382,7 +397,7 @@ static inline void pass2_tractions(const struct pass2_lanes_i *I, real pressure_
         t_i[a] = t_j[a] = (realv)0;
 #pragma unroll
         for (int c = 0; c < SPH_DIM; ++c) {
-            t_i[a] += I->sigma[a][c] * g_i[c];
+            t_i[a] += I->sigma_g[a][c] * grad[c];
             t_j[a] += sigma_j[a][c] * g_j[c];
         }
     }
@@ -462,12 +477,12 @@ __kernel void pass2_momentum_energy(
         const realv dwdr_r = SPH_SELECT((realv)0, kernel_dwdr_over_r_q(q, inv_h), near);
         /* the viscosity's heating, -1/2 m v_ij . (-Pi g): its share of de */
         de_viscous += (real)0.5 * m_pair * pi_ij * dwdr_r * vx;
-        realv grad[3], g_i[3], g_j[3];
-        pass2_gradients(&I, dwdr_r, xij, csph, j, grad, g_i, g_j);
+        realv grad[3], g_j[3];
+        pass2_gradients(dwdr_r, xij, csph, j, grad, g_j);
         /* (sigma_i . g_i + sigma_j . g_j) / (rho_i rho_j) and the
          * artificial terms (f^n (R_i + R_j) - Pi I) . g */
         realv t_i[3], t_j[3], extra[3];
-        pass2_tractions(&I, pressure[j], deviatoric_stress[j], g_i, g_j, t_i, t_j);
+        pass2_tractions(&I, pressure[j], deviatoric_stress[j], grad, g_j, t_i, t_j);
 #pragma unroll
         for (int a = 0; a < SPH_DIM; ++a)
             extra[a] = -pi_ij * grad[a];
@@ -491,7 +506,7 @@ __kernel void pass2_momentum_energy(
     }
     END_FOR_EACH_LANE_NEIGHBOUR
 #ifdef SPH_AXISYMMETRIC
-    acc[0] -= I.sigma[2][2] * I.inv_r; /* the hoop stress' body force: see the header */
+    acc[0] -= I.hoop_stress * I.inv_r; /* the hoop stress' body force: see the header */
 #endif
     pass2_store(&b, acc, xsph, de_viscous, de_stress, acceleration, energy_rate, viscous_heating,
                 xsph_velocity, run);
