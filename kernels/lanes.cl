@@ -393,6 +393,30 @@ static inline void outer_add(realv t[3][3], realv s, const realv a[3], const rea
             t[p][q] += s * a[p] * b[q];
 }
 
+/* A symmetric sum of outer products, t += s a (x) a, over its upper
+ * triangle only (the CSPH moment matrix: grad W_ij lies along x_ij, so
+ * B_i is symmetric, pass1.cl); moment_mirror fills the lower triangle once
+ * the sum is complete. Six products per pair instead of nine. */
+static inline void moment_add(realv t[3][3], realv s, const realv a[3])
+{
+#pragma unroll
+    for (int p = 0; p < SPH_DIM; ++p) {
+        const realv sa = s * a[p];
+#pragma unroll
+        for (int q = p; q < SPH_DIM; ++q)
+            t[p][q] += sa * a[q];
+    }
+}
+
+static inline void moment_mirror(realv t[3][3])
+{
+#pragma unroll
+    for (int p = 1; p < SPH_DIM; ++p)
+#pragma unroll
+        for (int q = 0; q < p; ++q)
+            t[p][q] = t[q][p];
+}
+
 /* A full 3 x 3 tensor per lane (the velocity gradient). */
 static inline void gather_fullt(__global const fullt *restrict f, const struct lane_block *b, int n,
                                 realv out[3][3])

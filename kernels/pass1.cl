@@ -106,19 +106,22 @@ pass1_velocity_gradient(__global const vec *restrict pos, __global const vec *re
         /* grad_i W_ij = dW/dr x_ij / r; zero for lanes out of reach */
         const realv dwdr_r =
             SPH_SELECT((realv)0, kernel_dwdr_over_r_q(sqrt(r2) * inv_h, inv_h), near);
+        /* V_j grad W = s x_ij: the gradient's scale taken once per pair */
+        const realv s = volume * dwdr_r;
         const vec vj = vel_half[j];
-        realv vji[3], grad[3];
+        realv vji[3];
 #pragma unroll
-        for (int a = 0; a < 3; ++a) {
+        for (int a = 0; a < 3; ++a)
             vji[a] = a < SPH_DIM ? vec_get(vj, a) - vi[a] : (realv)0;
-            grad[a] = dwdr_r * xij[a];
-        }
-        outer_add(grad_v, volume, vji, grad);
+        outer_add(grad_v, s, vji, xij);
 #ifdef SPH_CSPH
-        outer_add(moment, -volume, xij, grad);
+        moment_add(moment, -s, xij);
 #endif
     }
     END_FOR_EACH_LANE_NEIGHBOUR
+#ifdef SPH_CSPH
+    moment_mirror(moment);
+#endif
     for (int l = 0; l < SPH_LANES; ++l) {
         if (!lane_live(&b, l))
             continue;
