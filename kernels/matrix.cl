@@ -122,9 +122,9 @@ static inline void symmetric_eigen(real t[3][3], real v[3][3])
  * the correction amplifies a gradient at most tenfold along any direction.
  * Every regular lattice's face, edge and corner lies above it: the 3-D
  * corner's smallest eigenvalue over the six smoothing kernels at h = 1-2 dx
- * is 0.11 (Gaussian and quintic spline at 2 dx) to 0.32, 0.25 for Wendland
+ * is 0.11 (Gaussian and quintic spline at 2 dx) to 0.32, 0.24 for Wendland
  * C2 at 1.2 dx; the 2-D corner's 0.17-0.36 (tests/test_matrix.c checks
- * h = 1-1.5 dx). So it leaves a body's corners as they were; what
+ * and prints them). So it leaves a body's corners as they were; what
  * falls below is a deformed or torn neighbourhood that is nearly flat or
  * nearly a line. Such a matrix can pass the determinant guard with one
  * small eigenvalue: a SEBS particle splashed above the target's
