@@ -15,7 +15,9 @@
 #define SPH_SOURCE_DIR "."
 #endif
 
-/* Kernel sources in the order the program is assembled. */
+/* Kernel sources in the order the program is assembled, one per line
+ * (clang-format would pack them). */
+// clang-format off
 static const char *const source_files[] = {
     "include/sph_shared.h",
     "kernels/lane_types.cl",
@@ -37,6 +39,7 @@ static const char *const source_files[] = {
     "kernels/projectile.cl",
     "kernels/probe.cl",
 };
+// clang-format on
 
 const char *cl_error_name(cl_int code)
 {
