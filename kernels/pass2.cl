@@ -146,7 +146,7 @@ static inline void store_xsph(__global vec *restrict xsph_velocity, int i, vec s
  * traction takes the kernel gradient, sigma_g = sigma C^T / rho (C the CSPH
  * correction, else I; 1 / rho_i carried once), so that t_i = sigma_g . g
  * costs one product per pair where C^T g and then sigma . (C^T g) cost two
- * (gelatin3d-1m: docs/performance.md, session 35); and the fields each
+ * (docs/performance.md, "Fewer products per pair"); and the fields each
  * option reads. */
 struct pass2_lanes_i {
     realv x[3], v[3], rho, inv_rho, sigma_g[3][3], c;
