@@ -28,12 +28,13 @@ static inline void matrix_identity(real c[3][3])
  * matrix B = sum_j V_j x_ji (x) grad W is I inside a body; on a regular
  * lattice's flat face, edge and corner its determinant is 0.37 / 0.31,
  * 0.095, 0.028 (2-D / 3-D face, 3-D edge, 3-D corner; 2-D corner 0.14;
- * Wendland C2, h = 1.2 dx). A smaller one is a neighbourhood that does not
- * determine a gradient (spray and debris with a few neighbours, a line of
- * particles), and its inverse would multiply that neighbourhood's velocity
- * differences by up to 1 / det. With a 1e-3 threshold a debris particle at
- * a cavity's lip was compressed to 1.5 rho0 within a few steps (gelatin,
- * d/dx = 8, energy drift 0.51); with this one the run's drift is 0.07. */
+ * Wendland C2, h = 1.2 dx; tests/test_matrix.c prints them). A smaller one
+ * is a neighbourhood that does not determine a gradient (spray and debris
+ * with a few neighbours, a line of particles), and its inverse would
+ * multiply that neighbourhood's velocity differences by up to 1 / det. With
+ * a 1e-3 threshold a debris particle at a cavity's lip was compressed to
+ * 1.5 rho0 within a few steps (gelatin, d/dx = 8, energy drift 0.51); with
+ * this one the run's drift is 0.07. */
 static inline int matrix_invert_or_identity(real b[3][3], real c[3][3])
 {
     matrix_identity(c);

@@ -6,8 +6,8 @@
  * (thesis eqs. 3.10-3.11; Chen et al. 1999, Bonet & Lok 1999) the gradient is
  * corrected so that a linear velocity field is differentiated exactly:
  * B_i = sum_j V_j (x_j - x_i) (x) grad_i W_ij, corrected gradient C_i^T grad W
- * with C_i = B_i^-1, hence L_i <- L_i C_i (one pass suffices because L is
- * linear in the gradient).
+ * with C_i = B_i^-1 (guarded: kernels/matrix.cl csph_correction), hence
+ * L_i <- L_i C_i (one pass suffices because L is linear in the gradient).
  * Density: continuity, drho_i/dt = -rho_i tr(L_i) (plus the out-of-plane
  * strain rate in plane stress).
  * Then each particle's material update (material.cl) with its L_i and

@@ -67,7 +67,9 @@ static double smallest_eigenvalue(real b[3][3])
 }
 
 /* Also prints the corner's smallest eigenvalue per kernel and h/dx (the
- * table docs/validation_penetration.md quotes, session 35). */
+ * table docs/validation_penetration.md quotes, session 35), and Wendland
+ * C2's face, edge and corner determinants at h = 1.2 dx (kernels/matrix.cl
+ * quotes them). */
 static void lattice_corners_untouched(void **state)
 {
     (void)state;
@@ -92,6 +94,18 @@ static void lattice_corners_untouched(void **state)
             }
         print_message("\n");
     }
+    print_message("Wendland C2, h/dx 1.2: det B at the face / edge / corner:");
+    for (int cut = 1; cut <= SPH_DIM; ++cut) {
+        real b[3][3];
+        lattice_moment(SPH_KERNEL_WENDLAND_C2, 1.2, cut, b);
+        const double det2 = b[0][0] * b[1][1] - b[0][1] * b[1][0];
+        print_message(" %.4f", SPH_DIM == 2
+                                   ? det2
+                                   : b[0][0] * (b[1][1] * b[2][2] - b[1][2] * b[2][1]) -
+                                         b[0][1] * (b[1][0] * b[2][2] - b[1][2] * b[2][0]) +
+                                         b[0][2] * (b[1][0] * b[2][1] - b[1][1] * b[2][0]));
+    }
+    print_message("\n");
 }
 
 /* An orthonormal frame turned off the axes (rotations about z, then x). */

@@ -1,8 +1,8 @@
 #!/usr/bin/python3
 """The CSPH moment matrix of every particle of a 3-D quarter-model snapshot
 with its mirror images in the planes x = 0 and z = 0 (Wendland C2, the
-pair-mean h), recomputed offline: how many pass kernels/common.cl's
-determinant guard (1/1024) with a smallest eigenvalue below a corner's
+pair-mean h), recomputed offline: how many pass the determinant guard
+(1/1024; kernels/common.cl then, kernels/matrix.cl since session 35) with a smallest eigenvalue below a corner's
 (1/8). dx is the SEBS d/dx 12 run's. Session 34; about 37 CPU-minutes
 for 444,028 particles.
 

@@ -11,6 +11,6 @@ done
 # Rounds 4-6 (gel1m only) were run afterwards in the order new, base:
 #   for r in 4 5 6; do for v in new base; do ... gelatin3d-1m as above; done; done
 # Table: /usr/bin/python3 ../lane_slots_experiment/report.py . new
-# base = /tmp/base at 4b4adef, new = the session-35 tree (: the CSPH floor and
+# base = /tmp/base at 4b4adef, new = the session-35 tree (the CSPH floor and
 # the pass 1 / pass 2 products); the d/dx 12 run and the stability study
 # were stopped (SIGSTOP) while these ran.
