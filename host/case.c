@@ -885,9 +885,40 @@ static int check_load(struct ctx *x, const struct frame *fr, void *base)
     return 0;
 }
 
-static int check_wall(struct ctx *x, const struct frame *fr, void *base)
+int case_wall_axis(const struct case_wall *w)
 {
-    struct case_wall *w = base;
+    for (int a = 0; a < 3; ++a)
+        if (fabs(fabs(w->normal[a]) - 1.0) <= 1e-12)
+            return a;
+    return -1;
+}
+
+unsigned case_held_wall_axes(const struct sph_case *c)
+{
+    unsigned axes = 0;
+    for (int w = 0; w < c->wall_count; ++w)
+        if (c->walls[w].hold)
+            axes |= 1u << case_wall_axis(&c->walls[w]);
+    return axes;
+}
+
+static int check_held_wall(struct ctx *x, const struct frame *fr, const struct case_wall *w)
+{
+    if (w->friction > 0)
+        return fail(x, line_of(fr, "friction"), subkey(x, "friction"),
+                    "a held wall is frictionless (its face slides freely), got friction %g",
+                    w->friction);
+    const int a = case_wall_axis(w);
+    if (a < 0 || a >= x->c->dimension)
+        return fail(x, line_of(fr, "hold"), subkey(x, "hold"),
+                    "a held wall needs a normal along x or y%s (a symmetry plane stands in "
+                    "for it), got [%g, %g, %g]",
+                    x->c->dimension == 3 ? " or z" : "", w->normal[0], w->normal[1], w->normal[2]);
+    return 0;
+}
+
+static int normalise_wall_normal(struct ctx *x, const struct frame *fr, struct case_wall *w)
+{
     double squares = 0;
     for (int a = 0; a < 3; ++a)
         squares += w->normal[a] * w->normal[a];
@@ -910,6 +941,13 @@ static int check_wall(struct ctx *x, const struct frame *fr, void *base)
     for (int a = 0; a < 3; ++a)
         w->normal[a] /= norm;
     return 0;
+}
+
+static int check_wall(struct ctx *x, const struct frame *fr, void *base)
+{
+    struct case_wall *w = base;
+    const int bad = normalise_wall_normal(x, fr, w);
+    return bad || !w->hold ? bad : check_held_wall(x, fr, w);
 }
 
 static int check_symmetry(struct ctx *x, const struct frame *fr, void *base)
@@ -1075,6 +1113,42 @@ static int check_axisymmetric(struct ctx *x, const struct frame *fr, struct sph_
     return 0;
 }
 
+/* A held wall is a symmetry plane (kernels/ghost.cl): the mirror images of
+ * the body's particles stand beyond it, so the face stays on the plane and
+ * slides along it freely, with the kernel's support whole at the face. That
+ * is the constraint of the mesh codes' Taylor benchmarks (Simo 1992: the
+ * impact face's nodes held at u_z = 0; DynELA: the axial displacement of
+ * the impact face restrained), where a penalty wall lets the face lift off.
+ * The plane is added unless the case lists it (a resolved case does). */
+static int held_walls(struct ctx *x, const struct frame *fr, struct sph_case *c)
+{
+    for (int w = 0; w < c->wall_count; ++w) {
+        const struct case_wall *wall = &c->walls[w];
+        if (!wall->hold)
+            continue;
+        const int a = case_wall_axis(wall);
+        const double position = wall->point[a];
+        int listed = 0;
+        for (int k = 0; k < c->symmetry_count; ++k) {
+            if (c->symmetry[k].axis != a)
+                continue;
+            if (c->symmetry[k].position != position)
+                return fail(x, line_of(fr, "walls"), "walls",
+                            "wall '%s' is held on the plane %s = %g, which needs that axis' "
+                            "one symmetry plane, but symmetry has %s = %g",
+                            wall->name, axis_names[a], position, axis_names[a],
+                            c->symmetry[k].position);
+            listed = 1;
+        }
+        if (!listed) {
+            c->symmetry[c->symmetry_count].axis = a;
+            c->symmetry[c->symmetry_count].position = position;
+            ++c->symmetry_count;
+        }
+    }
+    return 0;
+}
+
 static int check_case(struct ctx *x, const struct frame *fr, void *base)
 {
     struct sph_case *c = base;
@@ -1090,8 +1164,9 @@ static int check_case(struct ctx *x, const struct frame *fr, void *base)
     if (c->reference.enabled && !c->has_probe)
         return fail(x, line_of(fr, "reference"), "reference",
                     "needs a probe (add a probe map naming the group to compare)");
-    return c->dimension == 2 && c->plane == SPH_PLANE_AXISYMMETRIC ? check_axisymmetric(x, fr, c)
-                                                                   : 0;
+    const int bad =
+        c->dimension == 2 && c->plane == SPH_PLANE_AXISYMMETRIC ? check_axisymmetric(x, fr, c) : 0;
+    return bad ? bad : held_walls(x, fr, c);
 }
 
 /* ---- the tables -------------------------------------------------------- */
@@ -1283,6 +1358,7 @@ static const struct field wall_fields[] = {
     VECTOR("point", struct case_wall, point, F_REQUIRED, 0, "m", NULL),
     VECTOR("normal", struct case_wall, normal, F_REQUIRED, 0, NULL, NULL),
     NUMBER("friction", struct case_wall, friction, 0, R_NONNEG, 0, 0, 0, NULL),
+    BOOL("hold", struct case_wall, hold),
 };
 static const struct schema wall_schema = SCHEMA(wall_fields, struct case_wall, check_wall);
 

@@ -29,10 +29,16 @@ void ledger_watch(struct energy_ledger *e, const struct reduction *red, double p
     e->excursion = fmax(e->excursion, fabs(ledger_total(e, red, projectile) - e->start));
 }
 
-void ledger_take_wall_force(struct energy_ledger *e, double force[3])
+void ledger_take_wall_force(struct energy_ledger *e, const struct reduction *red, double force[3])
 {
-    for (int a = 0; a < 3; ++a)
-        force[a] = e->impulse_since_row > 0 ? -e->wall_impulse[a] / e->impulse_since_row : 0.0;
+    for (int a = 0; a < 3; ++a) {
+        /* along a held wall's normal every force on the particles but the
+         * loads is a wall's */
+        const double impulse =
+            (e->held_axes >> a) & 1u ? e->row_momentum[a] - red->momentum[a] : -e->wall_impulse[a];
+        force[a] = e->impulse_since_row > 0 ? impulse / e->impulse_since_row : 0.0;
+        e->row_momentum[a] = red->momentum[a];
+    }
     memset(e->wall_impulse, 0, sizeof e->wall_impulse);
     e->impulse_since_row = 0;
 }

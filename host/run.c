@@ -136,7 +136,7 @@ static int write_history(struct loop *L)
     row.viscous_work = L->energy.viscous_work;
     row.hourglass_work = L->energy.hourglass_work;
     row.total_energy = total_energy(L);
-    ledger_take_wall_force(&L->energy, row.wall_force);
+    ledger_take_wall_force(&L->energy, &L->red, row.wall_force);
     row.dx = L->c->numerics.dx;
     const int stop = watch_health(L, &row);
     output_history(L->out, &row);
@@ -921,6 +921,7 @@ int run_case(const struct run_options *opt)
                      .health = {.first_unhealthy_time = -1, .min_pair_distance = HUGE_VAL},
                      .ballistics = {.left_fine_time = -1, .exit_time = -1}};
     L.next_checkpoint_wall = L.wall_start + r->c->output.checkpoint_wall_interval;
+    L.energy.held_axes = case_held_wall_axes(r->c);
     code = open_and_start(&L, r, k, error, sizeof error);
     if (k)
         checkpoint_close(k);

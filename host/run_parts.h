@@ -23,7 +23,9 @@ struct energy_ledger {
     double start;                              /* the total at t = 0, J */
     double scale;                              /* the largest energy so far, J */
     double excursion;                          /* the largest |E - E(0)| so far, J */
-    double kinetic_start; /* particles' and projectile's kinetic energy at t = 0, J */
+    double kinetic_start;   /* particles' and projectile's kinetic energy at t = 0, J */
+    unsigned held_axes;     /* bit a: a held wall's normal lies along axis a */
+    double row_momentum[3]; /* the particles' momentum at the last row, kg m/s */
 };
 /* the total; `projectile` is the sphere's share of the model's energy, J */
 double ledger_total(const struct energy_ledger *e, const struct reduction *red, double projectile);
@@ -34,8 +36,11 @@ void ledger_step(struct energy_ledger *e, const struct reduction *red, double dt
  * its energy is read) */
 void ledger_watch(struct energy_ledger *e, const struct reduction *red, double projectile);
 /* the mean force on the walls since the last row (the reaction: minus the
- * force on the particles), N; starts the next interval */
-void ledger_take_wall_force(struct energy_ledger *e, double force[3]);
+ * force on the particles), N; starts the next interval. A held wall (a
+ * symmetry plane) has no contact force of its own: along its normal the
+ * force is minus the particles' momentum change over the interval (every
+ * wall's force along it, and a load's or a projectile's too) */
+void ledger_take_wall_force(struct energy_ledger *e, const struct reduction *red, double force[3]);
 /* drift over the run: excursion over the largest energy */
 double ledger_drift(const struct energy_ledger *e);
 

@@ -6,6 +6,16 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* The walls the device pushes with a contact spring: all but the held ones,
+ * which are symmetry planes (host/case.c, held_walls). */
+static int penalty_wall_count(const struct sph_case *c)
+{
+    int count = 0;
+    for (int w = 0; w < c->wall_count; ++w)
+        count += !c->walls[w].hold;
+    return count;
+}
+
 void solver_configure(struct solver *s, const struct sph_case *c)
 {
     s->dim = c->dimension;
@@ -17,7 +27,7 @@ void solver_configure(struct solver *s, const struct sph_case *c)
     s->av_scheme = c->numerics.av_scheme;
     s->artificial_stress = c->numerics.as_epsilon > 0;
     s->viscosity = case_has_viscosity(c);
-    s->wall_count = c->wall_count; /* wall_force exists only with walls */
+    s->wall_count = penalty_wall_count(c); /* wall_force exists only with them */
     const size_t r = s->double_precision ? sizeof(cl_double) : sizeof(cl_float);
     s->element_size[ELEM_REAL] = r;
     s->element_size[ELEM_INT] = sizeof(cl_int);
@@ -360,8 +370,11 @@ static void upload_walls(struct solver *s, const struct sph_case *c)
     struct sph_wall narrow[SPH_MAX_WALLS];
     memset(wide, 0, sizeof wide);
     memset(narrow, 0, sizeof narrow);
-    for (int w = 0; w < c->wall_count; ++w) {
-        const struct case_wall *cw = &c->walls[w];
+    int w = 0;
+    for (int k = 0; k < c->wall_count; ++k) {
+        const struct case_wall *cw = &c->walls[k];
+        if (cw->hold) /* a symmetry plane (host/ghost.c), no contact spring */
+            continue;
         wide[w].point_x = cw->point[0], wide[w].point_y = cw->point[1];
         wide[w].point_z = cw->point[2];
         wide[w].normal_x = cw->normal[0], wide[w].normal_y = cw->normal[1];
@@ -371,14 +384,15 @@ static void upload_walls(struct solver *s, const struct sph_case *c)
 #define SPH_NARROW(name) narrow[w].name = (real)wide[w].name;
         SPH_WALL_REALS(SPH_NARROW)
 #undef SPH_NARROW
+        ++w;
     }
-    s->wall_count = c->wall_count;
-    if (c->wall_count == 0)
+    s->wall_count = w;
+    if (w == 0)
         return;
     const void *table = s->double_precision ? (const void *)wide : (const void *)narrow;
     const size_t entry = s->double_precision ? sizeof wide[0] : sizeof narrow[0];
-    CL_CHECK(clEnqueueWriteBuffer(s->dev->queue, s->walls, CL_TRUE, 0,
-                                  entry * (size_t)c->wall_count, table, 0, NULL, NULL));
+    CL_CHECK(clEnqueueWriteBuffer(s->dev->queue, s->walls, CL_TRUE, 0, entry * (size_t)w, table, 0,
+                                  NULL, NULL));
 }
 
 static void upload_run_params(struct solver *s)

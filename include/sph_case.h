@@ -195,6 +195,8 @@ struct case_wall {
     double point[3];  /* m, a point of the plane (Taylor summary: where the bar's axis meets it) */
     double normal[3]; /* towards the material; normalised on load */
     double friction;  /* Coulomb coefficient, default 0 (frictionless) */
+    int hold;         /* the body's face stays on the plane, free to slide along it: a
+                         symmetry plane stands in for the wall (host/case.c, held_walls) */
 };
 
 /* A symmetry plane normal to a coordinate axis: mirror-image (ghost)
@@ -284,6 +286,10 @@ char *case_resolved_text(const struct sph_case *c, size_t *length);
 double case_material_sound_speed(const struct case_material *m);
 /* Whether some material has a physical viscosity (materials[].viscosity). */
 int case_has_viscosity(const struct sph_case *c);
+/* The coordinate axis a wall's normal lies along (0-2), -1 if none. */
+int case_wall_axis(const struct case_wall *w);
+/* Bit a set when a held wall's normal lies along axis a. */
+unsigned case_held_wall_axes(const struct sph_case *c);
 /* The explicit time step's limit from the physical viscosity for a smoothing
  * length h (m): 0.125 h^2 min(rho0 / eta) (Morris, Fox & Zhu 1997, J.
  * Comput. Phys. 136:214, their viscous step limit), s; HUGE_VAL without
