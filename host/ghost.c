@@ -73,7 +73,7 @@ void solver_ghosts_setup(struct solver *s, const struct sph_case *c, const struc
     /* room for the layer near the planes to thicken as the body deforms,
      * and a face held on a wall (host/case.c, held_walls) to spread along
      * it: tenfold in area (a Taylor bar's face grows about fivefold, its
-     * 3-D quarter's here up to ninefold: docs/validation_taylor.md) */
+     * 3-D quarter's here 8.5-fold: docs/validation_taylor.md) */
     g->capacity = 2 * initial + 8 * initial_held + 256;
     s->capacity = scene->count + g->capacity;
 }
