@@ -947,7 +947,9 @@ static int check_wall(struct ctx *x, const struct frame *fr, void *base)
 {
     struct case_wall *w = base;
     const int bad = normalise_wall_normal(x, fr, w);
-    return bad || !w->hold ? bad : check_held_wall(x, fr, w);
+    if (bad)
+        return bad;
+    return w->hold ? check_held_wall(x, fr, w) : 0;
 }
 
 static int check_symmetry(struct ctx *x, const struct frame *fr, void *base)
@@ -1128,16 +1130,29 @@ static int held_walls(struct ctx *x, const struct frame *fr, struct sph_case *c)
             continue;
         const int a = case_wall_axis(wall);
         const double position = wall->point[a];
+        char key[32];
+        snprintf(key, sizeof key, "walls.%d", w);
+        for (int v = 0; v < w; ++v)
+            if (c->walls[v].hold && case_wall_axis(&c->walls[v]) == a &&
+                c->walls[v].point[a] != position)
+                return fail(x, line_of(fr, "walls"), key,
+                            "wall '%s' is held on %s = %g, but wall '%s' already holds %s = %g "
+                            "(one held wall or symmetry plane per axis)",
+                            wall->name, axis_names[a], position, c->walls[v].name, axis_names[a],
+                            c->walls[v].point[a]);
+        const int axis_of_revolution =
+            c->dimension == 2 && c->plane == SPH_PLANE_AXISYMMETRIC && a == 0;
         int listed = 0;
         for (int k = 0; k < c->symmetry_count; ++k) {
             if (c->symmetry[k].axis != a)
                 continue;
             if (c->symmetry[k].position != position)
-                return fail(x, line_of(fr, "walls"), "walls",
-                            "wall '%s' is held on the plane %s = %g, which needs that axis' "
-                            "one symmetry plane, but symmetry has %s = %g",
-                            wall->name, axis_names[a], position, axis_names[a],
-                            c->symmetry[k].position);
+                return fail(
+                    x, line_of(fr, "walls"), key,
+                    "wall '%s' is held on %s = %g, but %s = %g is %s (one held wall or "
+                    "symmetry plane per axis)",
+                    wall->name, axis_names[a], position, axis_names[a], c->symmetry[k].position,
+                    axis_of_revolution ? "the axis of an axisymmetric case" : "a symmetry plane");
             listed = 1;
         }
         if (!listed) {

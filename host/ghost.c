@@ -62,19 +62,19 @@ void solver_ghosts_setup(struct solver *s, const struct sph_case *c, const struc
     /* the support plus the distance particles may move between sorts */
     g->width = s->run.support * (1.0 + s->skin);
     const unsigned held = case_held_wall_axes(c);
-    int initial = 0, initial_held = 0, masks[7];
+    int initial = 0, held_images = 0, masks[7];
     for (int p = 0; p < scene->count; ++p) {
         const int m = images(g, &scene->position[3 * p], solver_reach_scale(s, scene->flags[p]),
                              c->dimension, masks);
         initial += m;
         for (int k = 0; k < m; ++k)
-            initial_held += (masks[k] & (int)held) != 0;
+            held_images += (masks[k] & (int)held) != 0;
     }
     /* room for the layer near the planes to thicken as the body deforms,
      * and a face held on a wall (host/case.c, held_walls) to spread along
      * it: tenfold in area (a Taylor bar's face grows about fivefold, its
      * 3-D quarter's here 8.5-fold: docs/validation_taylor.md) */
-    g->capacity = 2 * initial + 8 * initial_held + 256;
+    g->capacity = 2 * initial + 8 * held_images + 256;
     s->capacity = scene->count + g->capacity;
 }
 

@@ -32,8 +32,9 @@ void ledger_watch(struct energy_ledger *e, const struct reduction *red, double p
 void ledger_take_wall_force(struct energy_ledger *e, const struct reduction *red, double force[3])
 {
     for (int a = 0; a < 3; ++a) {
-        /* along a held wall's normal every force on the particles but the
-         * loads is a wall's */
+        /* a held wall's force is not summed anywhere: along its normal the
+         * particles' momentum change stands for it (with every other wall's
+         * and any load's force along that normal: host/run_parts.h) */
         const double impulse =
             (e->held_axes >> a) & 1u ? e->row_momentum[a] - red->momentum[a] : -e->wall_impulse[a];
         force[a] = e->impulse_since_row > 0 ? impulse / e->impulse_since_row : 0.0;

@@ -379,6 +379,32 @@ int scene_estimate(const struct sph_case *c, double *points, char *error, size_t
     return 0;
 }
 
+/* A held wall is a symmetry plane, which mirrors the side the material is
+ * on whatever the normal says (host/ghost.c); the normal must agree, or the
+ * impact summary measures from the wrong end (host/impact.c). */
+static int check_held_sides(const struct sph_case *c, const struct sph_scene *s, char *error,
+                            size_t error_size)
+{
+    for (int w = 0; w < c->wall_count; ++w) {
+        const struct case_wall *wall = &c->walls[w];
+        if (!wall->hold)
+            continue;
+        const int a = case_wall_axis(wall);
+        double side = 0;
+        for (int p = 0; p < s->count; ++p)
+            side += s->position[3 * p + a] - wall->point[a];
+        if (side * wall->normal[a] <= 0) {
+            snprintf(error, error_size,
+                     "%s: wall '%s' is held with its normal along %s%c, but the bodies lie on its "
+                     "%s side: a wall's normal points towards the material",
+                     c->path, wall->name, wall->normal[a] > 0 ? "+" : "-", "xyz"[a],
+                     side > 0 ? "+" : "-");
+            return 1;
+        }
+    }
+    return 0;
+}
+
 int scene_build(const struct sph_case *c, struct sph_scene *s, char *error, size_t error_size)
 {
     memset(s, 0, sizeof *s);
@@ -424,6 +450,11 @@ int scene_build(const struct sph_case *c, struct sph_scene *s, char *error, size
             scene_free(s);
             return 1;
         }
+    }
+    if (check_held_sides(c, s, error, error_size)) {
+        free(body_of);
+        scene_free(s);
+        return 1;
     }
     const int status = apply_groups(c, s, body_of, error, error_size);
     free(body_of);

@@ -443,9 +443,23 @@ static const struct bad_input bad_inputs[] = {
              "  - {name: anvil, point: [0, -0.005], normal: [0, 1], hold: true}\n"
              "symmetry:\n"
              "  - {axis: y, position: 0.01}\n",
-     13,
-     "wall 'anvil' is held on the plane y = -0.005, which needs that axis' one symmetry "
-     "plane, but symmetry has y = 0.01"},
+     13, "walls.0: wall 'anvil' is held on y = -0.005, but y = 0.01 is a symmetry plane"},
+    {"a held wall off the axis of revolution",
+     "dimension: 2\nplane: axisymmetric\n" /* the axis x = 0 is a symmetry plane */
+     "materials:\n  - {name: steel, density: 7800, youngs_modulus: 210.0e9, poisson_ratio: 0.3}\n"
+     "bodies:\n  - {name: bar, material: steel, min: [0, 0], max: [0.003, 0.03]}\n"
+     "numerics: {dx: 1e-3, end_time: 1e-3}\n"
+     "walls:\n"
+     "  - {name: sleeve, point: [0.005, 0], normal: [-1, 0], hold: true}\n",
+     8,
+     "walls.0: wall 'sleeve' is held on x = 0.005, but x = 0 is the axis of an axisymmetric "
+     "case"},
+    {"two held walls on one axis",
+     MINIMAL "numerics: {dx: 1e-3, end_time: 1e-3}\n"
+             "walls:\n"
+             "  - {name: floor, point: [0, -0.005], normal: [0, 1], hold: true}\n"
+             "  - {name: lid, point: [0, 0.005], normal: [0, -1], hold: true}\n",
+     13, "walls.1: wall 'lid' is held on y = 0.005, but wall 'floor' already holds y = -0.005"},
     {"a second document", "dimension: 2\n---\ndimension: 3\n", 3, "a second YAML document"},
     {"a list at the top", "- dimension: 2\n", 1, "expected a map of case keys, got a sequence"},
     {"too many materials",

@@ -1,7 +1,6 @@
 #!/usr/bin/env python3
 """Final shape and face-centre state of axisymmetric Taylor runs
-(docs/validation_taylor.md, "The 42CrMo4 face: floor, wall and reference
-(session 36)").
+(docs/validation_taylor.md, "Held face").
 
 For each run folder (`sph run cases/taylor_axi_42crmo4.yaml --set
 numerics.dx=DX ...`), from its last snapshot:

@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""The 3-D Taylor face's largest radius (mm) in 10-degree sectors about the
+"""The 3-D Taylor face's largest particle radius (mm, centres: without the
+face measure's dx/2) in 10-degree sectors about the
 bar's axis (the quarter model's 0-90 degrees), on the last snapshot
 (docs/validation_taylor.md, "Held face", 3-D copper).
 Usage: face_sectors.py RUN..."""
