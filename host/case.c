@@ -1089,6 +1089,26 @@ static void default_name(const char *path, char *name, size_t size)
         snprintf(name, size, "case");
 }
 
+/* The case's symmetry plane on `axis`, or NULL. */
+static const struct case_symmetry *symmetry_plane_on(const struct sph_case *c, int axis)
+{
+    for (int k = 0; k < c->symmetry_count; ++k)
+        if (c->symmetry[k].axis == axis)
+            return &c->symmetry[k];
+    return NULL;
+}
+
+/* A plane the case implies (the axis of revolution, a held wall), added
+ * unless the case lists it, as a resolved case does (one per axis). */
+static void add_symmetry_plane(struct sph_case *c, int axis, double position)
+{
+    if (symmetry_plane_on(c, axis))
+        return;
+    c->symmetry[c->symmetry_count].axis = axis;
+    c->symmetry[c->symmetry_count].position = position;
+    ++c->symmetry_count;
+}
+
 /* Axisymmetric (x = r, y = z): bodies at r >= 0, the axis a symmetry plane
  * (added when the case does not list it), no total Lagrangian form. */
 static int check_axisymmetric(struct ctx *x, const struct frame *fr, struct sph_case *c)
@@ -1101,17 +1121,11 @@ static int check_axisymmetric(struct ctx *x, const struct frame *fr, struct sph_
             return fail(x, line_of(fr, "bodies"), "bodies",
                         "expected r = x >= 0 in an axisymmetric case, body '%s' has min x = %g",
                         c->bodies[b].name, c->bodies[b].box.min[0]);
-    for (int k = 0; k < c->symmetry_count; ++k)
-        if (c->symmetry[k].axis == 0) {
-            if (c->symmetry[k].position != 0)
-                return fail(x, line_of(fr, "symmetry"), "symmetry",
-                            "the axis of an axisymmetric case is x = 0, got x = %g",
-                            c->symmetry[k].position);
-            return 0;
-        }
-    c->symmetry[c->symmetry_count].axis = 0;
-    c->symmetry[c->symmetry_count].position = 0;
-    ++c->symmetry_count;
+    const struct case_symmetry *axis = symmetry_plane_on(c, 0);
+    if (axis && axis->position != 0)
+        return fail(x, line_of(fr, "symmetry"), "symmetry",
+                    "the axis of an axisymmetric case is x = 0, got x = %g", axis->position);
+    add_symmetry_plane(c, 0, 0.0);
     return 0;
 }
 
@@ -1142,24 +1156,15 @@ static int held_walls(struct ctx *x, const struct frame *fr, struct sph_case *c)
                             c->walls[v].point[a]);
         const int axis_of_revolution =
             c->dimension == 2 && c->plane == SPH_PLANE_AXISYMMETRIC && a == 0;
-        int listed = 0;
-        for (int k = 0; k < c->symmetry_count; ++k) {
-            if (c->symmetry[k].axis != a)
-                continue;
-            if (c->symmetry[k].position != position)
-                return fail(
-                    x, line_of(fr, "walls"), key,
-                    "wall '%s' is held on %s = %g, but %s = %g is %s (one held wall or "
-                    "symmetry plane per axis)",
-                    wall->name, axis_names[a], position, axis_names[a], c->symmetry[k].position,
-                    axis_of_revolution ? "the axis of an axisymmetric case" : "a symmetry plane");
-            listed = 1;
-        }
-        if (!listed) {
-            c->symmetry[c->symmetry_count].axis = a;
-            c->symmetry[c->symmetry_count].position = position;
-            ++c->symmetry_count;
-        }
+        const struct case_symmetry *plane = symmetry_plane_on(c, a);
+        if (plane && plane->position != position)
+            return fail(x, line_of(fr, "walls"), key,
+                        "wall '%s' is held on %s = %g, but %s = %g is %s (one held wall or "
+                        "symmetry plane per axis)",
+                        wall->name, axis_names[a], position, axis_names[a], plane->position,
+                        axis_of_revolution ? "the axis of an axisymmetric case"
+                                           : "a symmetry plane");
+        add_symmetry_plane(c, a, position);
     }
     return 0;
 }

@@ -49,10 +49,7 @@ void solver_ghosts_setup(struct solver *s, const struct sph_case *c, const struc
         g->plane[a] = c->symmetry[k].position;
         /* the side the body lies on (the lattice starts half a spacing off
          * the plane, so no particle sits on it) */
-        double mean = 0;
-        for (int p = 0; p < scene->count; ++p)
-            mean += scene->position[3 * p + a] - g->plane[a];
-        g->side[a] = mean >= 0 ? 1.0 : -1.0;
+        g->side[a] = scene_side_of_plane(scene, a, g->plane[a]);
         ++g->plane_count;
     }
     s->n_real = scene->count;

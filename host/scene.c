@@ -379,6 +379,14 @@ int scene_estimate(const struct sph_case *c, double *points, char *error, size_t
     return 0;
 }
 
+double scene_side_of_plane(const struct sph_scene *scene, int axis, double position)
+{
+    double mean = 0;
+    for (int p = 0; p < scene->count; ++p)
+        mean += scene->position[3 * p + axis] - position;
+    return mean >= 0 ? 1.0 : -1.0;
+}
+
 /* A held wall is a symmetry plane, which mirrors the side the material is
  * on whatever the normal says (host/ghost.c); the normal must agree, or the
  * impact summary measures from the wrong end (host/impact.c). */
@@ -390,10 +398,8 @@ static int check_held_sides(const struct sph_case *c, const struct sph_scene *s,
         if (!wall->hold)
             continue;
         const int a = case_wall_axis(wall);
-        double side = 0;
-        for (int p = 0; p < s->count; ++p)
-            side += s->position[3 * p + a] - wall->point[a];
-        if (side * wall->normal[a] <= 0) {
+        const double side = scene_side_of_plane(s, a, wall->point[a]);
+        if (side * wall->normal[a] < 0) {
             snprintf(error, error_size,
                      "%s: wall '%s' is held with its normal along %s%c, but the bodies lie on its "
                      "%s side: a wall's normal points towards the material",

@@ -58,6 +58,9 @@ double scene_particle_spacing(const struct sph_case *c, const struct sph_scene *
 
 /* Particle i's distance from `point`, m. */
 double scene_particle_distance(const struct sph_scene *scene, int i, const double point[3]);
+/* The side of the plane x_axis = position the particles lie on: +1 or -1
+ * (by their mean offset; +1 when it is zero). */
+double scene_side_of_plane(const struct sph_scene *scene, int axis, double position);
 
 /* The load scale factor of the time law at time t (0..1). */
 double scene_load_scale(const struct case_load *load, double t);

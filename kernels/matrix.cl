@@ -22,6 +22,19 @@ static inline void matrix_identity(real c[3][3])
             c[a][e] = a == e ? (real)1 : (real)0;
 }
 
+/* Determinants of the leading 2 x 2 and the whole 3 x 3 of a. */
+static inline real determinant2(real a[3][3])
+{
+    return a[0][0] * a[1][1] - a[0][1] * a[1][0];
+}
+
+static inline real determinant3(real a[3][3])
+{
+    return a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) -
+           a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
+           a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
+}
+
 /* Inverse of a dim x dim matrix whose determinant is near 1 (a CSPH moment
  * matrix, a deformation gradient); falls back to the identity, and returns
  * 0, when the determinant is below 1/32 (2-D) or 1/1024 (3-D). A moment
@@ -39,7 +52,7 @@ static inline int matrix_invert_or_identity(real b[3][3], real c[3][3])
 {
     matrix_identity(c);
 #if SPH_DIM == 2
-    const real det = b[0][0] * b[1][1] - b[0][1] * b[1][0];
+    const real det = determinant2(b);
     if (fabs(det) < (real)(1.0 / 32.0))
         return 0;
     c[0][0] = b[1][1] / det;
@@ -47,9 +60,7 @@ static inline int matrix_invert_or_identity(real b[3][3], real c[3][3])
     c[1][0] = -b[1][0] / det;
     c[1][1] = b[0][0] / det;
 #else
-    const real det = b[0][0] * (b[1][1] * b[2][2] - b[1][2] * b[2][1]) -
-                     b[0][1] * (b[1][0] * b[2][2] - b[1][2] * b[2][0]) +
-                     b[0][2] * (b[1][0] * b[2][1] - b[1][1] * b[2][0]);
+    const real det = determinant3(b);
     if (fabs(det) < (real)(1.0 / 1024.0))
         return 0;
     const real inv = (real)1 / det;
@@ -71,16 +82,14 @@ static inline int matrix_invert_or_identity(real b[3][3], real c[3][3])
  * (Sylvester's criterion). A few products, no decomposition. */
 static inline int symmetric_eigenvalues_above(real b[3][3], real f)
 {
-    const real a00 = b[0][0] - f, a11 = b[1][1] - f;
-    const real minor2 = a00 * a11 - b[0][1] * b[1][0];
+    real a[3][3];
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+            a[i][j] = b[i][j] - (i == j ? f : (real)0);
 #if SPH_DIM == 2
-    return a00 > 0 && minor2 > 0;
+    return a[0][0] > 0 && determinant2(a) > 0;
 #else
-    const real a22 = b[2][2] - f;
-    const real minor3 = a00 * (a11 * a22 - b[1][2] * b[2][1]) -
-                        b[0][1] * (b[1][0] * a22 - b[1][2] * b[2][0]) +
-                        b[0][2] * (b[1][0] * b[2][1] - a11 * b[2][0]);
-    return a00 > 0 && minor2 > 0 && minor3 > 0;
+    return a[0][0] > 0 && determinant2(a) > 0 && determinant3(a) > 0;
 #endif
 }
 

@@ -98,12 +98,7 @@ static void lattice_corners_untouched(void **state)
     for (int cut = 1; cut <= SPH_DIM; ++cut) {
         real b[3][3];
         lattice_moment(SPH_KERNEL_WENDLAND_C2, 1.2, cut, b);
-        const double det2 = b[0][0] * b[1][1] - b[0][1] * b[1][0];
-        print_message(" %.4f", SPH_DIM == 2
-                                   ? det2
-                                   : b[0][0] * (b[1][1] * b[2][2] - b[1][2] * b[2][1]) -
-                                         b[0][1] * (b[1][0] * b[2][2] - b[1][2] * b[2][0]) +
-                                         b[0][2] * (b[1][0] * b[2][1] - b[1][1] * b[2][0]));
+        print_message(" %.4f", (double)(SPH_DIM == 2 ? determinant2(b) : determinant3(b)));
     }
     print_message("\n");
 }

@@ -4,7 +4,9 @@
 
 For each run folder (`sph run cases/taylor_axi_42crmo4.yaml --set
 numerics.dx=DX ...`), from its last snapshot:
-- length: the bar's extent along z plus dx (host/impact.c's measure);
+- length: the bar's extent along z plus dx (host/impact.c's measure, taken
+  again here because the runs with the wall replaced by a symmetry plane
+  have no wall and so no impact summary);
 - face: twice the largest radius in the lowest layer (within dx/2 of the
   lowest particle) plus dx, the footprint diameter host/impact.c reports;
 - r_max: the largest radius anywhere (the mushroom's widest point: the
