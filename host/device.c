@@ -36,6 +36,7 @@ static const char *const source_files[] = {
     "kernels/halo.cl",
     "kernels/integrate.cl",
     "kernels/reduce.cl",
+    "kernels/health.cl",
     "kernels/projectile.cl",
     "kernels/probe.cl",
 };

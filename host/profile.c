@@ -20,8 +20,9 @@ static const struct {
 } pair_flops[] = {
     {"pass1_velocity_gradient", 84}, /* gradient, velocity gradient, CSPH moment */
     {"pass2_momentum_energy", 170},  /* stresses, CSPH, viscosity, XSPH */
-    {"tl_deformation", 84},          {"tl_momentum", 120},           {"tl_correction", 45},
-    {"health_indicators", 30},       {"health_neighbour_count", 10},
+    {"tl_deformation", 84},          {"tl_momentum", 120},
+    {"tl_correction", 45},           {"health_pairs", 30},
+    {"health_neighbour_count", 10},
 };
 
 void profile_note_buffer(cl_mem buffer)

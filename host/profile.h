@@ -33,7 +33,7 @@ struct profiler {
     int pending_count;
     double pairs_per_call; /* pair interactions of one neighbour pass (sum over i) */
     double wall_s;         /* host clock over the profiled stepping, s */
-    double host_output_s;  /* of which writing snapshots and history, s */
+    double host_output_s;  /* of which writing snapshots and history, less their kernels, s */
 };
 
 /* Device ceilings measured by the probe kernels (kernels/probe.cl). */

@@ -125,7 +125,7 @@ struct kernels {
     cl_kernel gather[ELEM_COUNT], copy[ELEM_COUNT];
     cl_kernel pass1, pass2, kick, drift, reduce, neighbour_count;
     cl_kernel tl_correction, tl_deformation, tl_momentum;
-    cl_kernel health;
+    cl_kernel health_pairs, health;
     cl_kernel projectile_contact, projectile_advance, projectile_cavity;
     cl_kernel neighbour_reach, cell_max_level, coarser_seed, coarser_spread,
         apply_reach;           /* graded */
@@ -450,7 +450,7 @@ long solver_lane_blocks(const struct solver *s);
 /* The lane lists' device memory as allocated, B (0 without them). */
 size_t solver_lane_list_bytes(const struct solver *s);
 
-/* Health indicators (kernels/reduce.cl, health_indicators) over the real,
+/* Health indicators (kernels/health.cl: health_pairs, health_indicators) over the real,
  * free particles. */
 struct health_reading {
     double min_pair_distance; /* m */

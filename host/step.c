@@ -40,6 +40,7 @@ static void step_kernels(struct solver *s, int make)
         {&k->tl_correction, s->total_lagrangian ? "tl_correction" : NULL, 0},
         {&k->tl_deformation, s->total_lagrangian ? "tl_deformation" : NULL, 0},
         {&k->tl_momentum, s->total_lagrangian ? "tl_momentum" : NULL, 0},
+        {&k->health_pairs, "health_pairs", 0},
         {&k->health, "health_indicators", 0},
         {&k->neighbour_reach, s->graded ? "grid_neighbour_reach" : NULL, 0},
         {&k->cell_max_level, s->graded ? "grid_cell_max_level" : NULL, 0},
@@ -525,8 +526,14 @@ void solver_reduce(struct solver *s, const double load[3], struct reduction *out
 
 void solver_health(struct solver *s, struct health_reading *out)
 {
+    /* each particle's record in the gather target, free between sorts
+     * (a record is two reals at most, the target holds a vec or more) */
     struct real_arg a_dx;
-    SET_ARGS(s, s->k.health, real_value(s, &a_dx, "dx", s->dx), MEM("partials", s->partials),
+    SET_ARGS(s, s->k.health_pairs, real_value(s, &a_dx, "dx", s->dx),
+             MEM("records", s->gather_spare), INT("n", s->n));
+    solver_launch(s, s->k.health_pairs,
+                  s->total_lagrangian ? (size_t)s->n : (size_t)solver_lane_blocks(s), 0);
+    SET_ARGS(s, s->k.health, MEM("records", s->gather_spare), MEM("partials", s->partials),
              INT("n", s->n));
     solver_launch(s, s->k.health, (size_t)s->reduce_groups * REDUCE_GROUP, REDUCE_GROUP);
     double v[REDUCE_MAX_GROUPS * SPH_HEALTH_SLOTS] = {0};

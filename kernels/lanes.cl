@@ -302,6 +302,9 @@ __kernel void lane_list_build(__global const vec *restrict at, __global const in
         return;
     }
     LANE_PASS_CONSTANTS;
+#ifndef SPH_GRADED
+    (void)inv_h; /* the walk tests distances only */
+#endif
     realv xi[3];
     lane_positions(at, &b, n, xi);
     const real reach2 = reach_scale * reach_scale;

@@ -1,0 +1,267 @@
+/*
+ * Health checks of the particle arrangement (issue: stability where SPH
+ * fails): the neighbour counts of the integrity measure, and the
+ * indicators each history row reports (host/run.c watch_health).
+ */
+
+/* Neighbours of each particle, for the integrity measure (particles that
+ * lost more than a third of their initial neighbours). Updated Lagrangian:
+ * particles within the support. Total Lagrangian, where the interacting
+ * pairs never change: reference neighbours (within the support at t = 0)
+ * whose separation has not more than doubled, so that only a tear, not the
+ * finite strain of a whole body, counts as a loss.
+ * reads pos, pos0; writes neighbour_count. */
+__kernel void health_neighbour_count(__global const vec *restrict pos,
+                                     __global const vec *restrict pos0,
+                                     __global const int *restrict flags, GRID_ARGS,
+                                     __constant const struct sph_run_params *run,
+                                     __global int *restrict neighbour_count, const int n)
+{
+    const int i = get_global_id(0);
+    if (i >= n)
+        return;
+    const vec xi = pos[i];
+    const real q2 = (run->support / run->h) * (run->support / run->h);
+    int c = 0;
+    FOR_EACH_NEIGHBOUR(i, j)
+    {
+        const real h = PAIR_H(i, j), support2 = q2 * h * h;
+        const vec d = xi - pos[j];
+#ifdef SPH_TOTAL_LAGRANGIAN
+        const vec d0 = pos0[i] - pos0[j];
+        const real r02 = dot(d0, d0);
+        c += (j != i && r02 < support2 && dot(d, d) <= (real)4 * r02) ? 1 : 0;
+#else
+        (void)pos0;
+        c += (j != i && dot(d, d) < support2) ? 1 : 0;
+#endif
+    }
+    END_FOR_EACH_NEIGHBOUR
+    neighbour_count[i] = c;
+}
+
+/* Health indicators, in two kernels: health_pairs finds each particle's
+ * neighbours within the support (count, nearest) and writes one record per
+ * particle, health_indicators reduces the records per work-group like
+ * reduce_step. The indicators: the smallest pair distance; the particles
+ * with a neighbour closer than dx / 2 (clumping, the end state of the
+ * tensile and pairing instabilities); the particles in Swegle's unstable
+ * regime, W''(r) sigma_n > 0 for the nearest neighbour at distance r with
+ * sigma_n = n . sigma . n the normal stress along that pair (Swegle, Hicks &
+ * Attaway 1995; thesis eq. 3.1: tension where the kernel's second
+ * derivative is positive); neighbour counts within the support. Ghosts and
+ * fixed particles are not counted. The records live in the gather target
+ * (gather_spare, host/step.c solver_health), which is free between sorts.
+ *
+ * The updated Lagrangian form finds the neighbours through the passes' lane
+ * loop (kernels/lanes.cl: the lists, or the cell walk where there are
+ * none), eight particles per work-item on a CPU: one particle per
+ * work-item over the cells, as it was, cost 235 ms per row on the 3-D
+ * gelatin case, twice its two passes together (docs/performance.md,
+ * "The health indicators through the lanes"). The total Lagrangian form's
+ * lists hold reference neighbours, not the current ones the indicators
+ * are about, so it keeps the cell walk. Either way every particle within
+ * the support is seen, in the cells' order, so the nearest of equally near
+ * neighbours is the same one. */
+struct health_record {
+    real nearest; /* the nearest neighbour's distance over the particle's own spacing scale, m */
+    int code;     /* neighbours within the support | HEALTH_* marks */
+};
+#define HEALTH_COUNTED (1 << 28) /* a real particle, neither ghost nor fixed */
+#define HEALTH_CLUMPED (1 << 29)
+#define HEALTH_SWEGLE (1 << 30)
+#define HEALTH_COUNT_MASK ((1 << 28) - 1)
+
+/* W'' at r, a central difference of dW/dr over 1e-3 h, enough for its sign */
+static inline real kernel_d2wdr2(real r, real h)
+{
+    const real step = (real)1e-3 * h;
+    return (kernel_dwdr(r + step, h) - kernel_dwdr(fmax(r - step, (real)0), h)) /
+           (r + step - fmax(r - step, (real)0));
+}
+
+/* Particle i's record from its neighbour count and nearest neighbour
+ * (offset `nearest`, squared distance nearest2) */
+static inline struct health_record health_record_of(
+    int i, int count, real nearest2, const real nearest[3], __global const real *restrict pressure,
+    __global const symt *restrict deviatoric_stress, __global const int *restrict flags,
+    __constant const struct sph_run_params *run, const real dx)
+{
+    struct health_record rec = {(real)INFINITY, count | HEALTH_COUNTED};
+    if (count == 0)
+        return rec;
+    /* distances in units of the particle's own spacing over dx */
+    const real scale_i = spacing_scale(flags[i]);
+    const real r = sqrt(nearest2) / scale_i;
+    rec.nearest = r;
+    /* failed material (a fluid without tension: no tensile instability)
+     * compacts against a projectile's contact; clumping counts intact
+     * material only */
+    if (r < (real)0.5 * dx && !(flags[i] & SPH_FLAG_DAMAGED))
+        rec.code |= HEALTH_CLUMPED;
+    real sigma[3][3], normal[3];
+    total_stress(pressure[i], deviatoric_stress[i], sigma);
+#pragma unroll
+    for (int a = 0; a < 3; ++a)
+        normal[a] = nearest[a] / (r * scale_i);
+    real sigma_n = 0;
+#pragma unroll
+    for (int a = 0; a < SPH_DIM; ++a)
+#pragma unroll
+        for (int b = 0; b < SPH_DIM; ++b)
+            sigma_n += normal[a] * sigma[a][b] * normal[b];
+    if (kernel_d2wdr2(r, run->h) * sigma_n > 0) /* in units of its own spacing */
+        rec.code |= HEALTH_SWEGLE;
+    return rec;
+}
+
+#ifdef SPH_TOTAL_LAGRANGIAN
+/* One particle per work-item over the cells (FOR_EACH_NEIGHBOUR).
+ * reads pos, pressure, deviatoric_stress, flags; writes records. */
+__kernel void health_pairs(__global const vec *restrict pos, __global const real *restrict pressure,
+                           __global const symt *restrict deviatoric_stress,
+                           __global const int *restrict flags, GRID_ARGS,
+                           __constant const struct sph_run_params *run, const real dx,
+                           __global struct health_record *restrict records, const int n)
+{
+    const int i = get_global_id(0);
+    if (i >= n)
+        return;
+    if (flags[i] & (SPH_FLAG_GHOST | SPH_FLAG_FIXED)) {
+        records[i] = (struct health_record){(real)INFINITY, 0};
+        return;
+    }
+    const real q2 = (run->support / run->h) * (run->support / run->h);
+    const vec xi = pos[i];
+    real nearest2 = INFINITY;
+    vec nearest = VEC_ZERO;
+    int count = 0;
+    FOR_EACH_NEIGHBOUR(i, j)
+    {
+        const vec d = pos[j] - xi;
+        const real r2 = dot(d, d);
+        const real h = PAIR_H(i, j);
+        if (j != i && r2 < q2 * h * h) {
+            ++count;
+            if (r2 < nearest2) {
+                nearest2 = r2;
+                nearest = d;
+            }
+        }
+    }
+    END_FOR_EACH_NEIGHBOUR
+    real offset[3];
+#pragma unroll
+    for (int a = 0; a < 3; ++a)
+        offset[a] = vec_get(nearest, a);
+    records[i] =
+        health_record_of(i, count, nearest2, offset, pressure, deviatoric_stress, flags, run, dx);
+}
+#else
+/* One work-item per lane block (FOR_EACH_LANE_NEIGHBOUR).
+ * reads pos, pressure, deviatoric_stress, flags; writes records. */
+__kernel void health_pairs(__global const vec *restrict pos, __global const real *restrict pressure,
+                           __global const symt *restrict deviatoric_stress,
+                           __global const int *restrict flags, LANE_GRID_ARGS,
+                           __constant const struct sph_run_params *run, const real dx,
+                           __global struct health_record *restrict records, const int n)
+{
+    struct lane_block b;
+    const int live = lane_block_setup(&b, flags, sort_keys, grid_dims, n);
+    if (b.first >= n)
+        return;
+    /* the support as the cell walk tested it, q2 h^2 (not the passes'
+     * run->support^2: the two round apart by an ulp, and a lattice puts
+     * pairs exactly at 2h when h = 1.5 dx) */
+    const real q2 = (run->support / run->h) * (run->support / run->h);
+    realv xi[3];
+    lane_positions(pos, &b, n, xi);
+    lanes_union index;
+    for (int l = 0; l < SPH_LANES; ++l)
+        index.s[l] = (real)(b.first + l);
+    realv nearest2 = (realv)INFINITY, count = (realv)0, nearest[3];
+#pragma unroll
+    for (int a = 0; a < 3; ++a)
+        nearest[a] = (realv)0;
+    if (live) {
+        FOR_EACH_LANE_NEIGHBOUR(b, j)
+        {
+#ifdef SPH_GRADED
+            const hreal h = PAIR_H_OF(b.scale, spacing_scale(flags[j]));
+#else
+            const hreal h = run->h;
+#endif
+            const hreal support2 = q2 * h * h;
+            realv xij[3];
+            const vec xj = pos[j];
+#pragma unroll
+            for (int a = 0; a < 3; ++a)
+                xij[a] = a < SPH_DIM ? vec_get(xj, a) - xi[a] : (realv)0;
+            const realv r2 = xij[0] * xij[0] + xij[1] * xij[1] + xij[2] * xij[2];
+            /* j itself is the one lane whose index it is (a real compare:
+             * indices below 2^24 are exact in float, as n is) */
+            const maskv within = (r2 < support2) & (index.v != (real)j);
+            if (!lanes_any(within))
+                continue;
+            count += SPH_SELECT((realv)0, (realv)1, within);
+            const maskv closer = within & (r2 < nearest2);
+            nearest2 = SPH_SELECT(nearest2, r2, closer);
+#pragma unroll
+            for (int a = 0; a < 3; ++a)
+                nearest[a] = SPH_SELECT(nearest[a], xij[a], closer);
+        }
+        END_FOR_EACH_LANE_NEIGHBOUR
+    }
+    for (int l = 0; l < SPH_LANES && b.first + l < n; ++l) {
+        const int i = b.first + l;
+        if (!lane_live(&b, l) || (flags[i] & SPH_FLAG_FIXED)) {
+            records[i] = (struct health_record){(real)INFINITY, 0};
+            continue;
+        }
+        const real offset[3] = {lane_of(nearest[0], l), lane_of(nearest[1], l),
+                                lane_of(nearest[2], l)};
+        records[i] = health_record_of(i, (int)lane_of(count, l), lane_of(nearest2, l), offset,
+                                      pressure, deviatoric_stress, flags, run, dx);
+    }
+}
+#endif
+
+static inline bool health_slot_is_min(int slot)
+{
+    return slot == SPH_HEALTH_MIN_DISTANCE || slot == SPH_HEALTH_NEIGHBOURS_MIN;
+}
+
+/* The records reduced per work-group (host/step.c solver_health combines
+ * the groups). reads records; writes health partials. */
+__kernel __attribute__((reqd_work_group_size(REDUCE_WG, 1, 1))) void
+health_indicators(__global const struct health_record *restrict records,
+                  __global real *restrict partials, const int n)
+{
+    __local real acc[REDUCE_WG][SPH_HEALTH_SLOTS];
+    real mine[SPH_HEALTH_SLOTS];
+    for (int k = 0; k < SPH_HEALTH_SLOTS; ++k)
+        mine[k] = health_slot_is_min(k) ? (real)INFINITY : (real)0;
+    FOR_GROUP_BLOCK (i, n) {
+        const struct health_record rec = records[i];
+        if (!(rec.code & HEALTH_COUNTED))
+            continue;
+        const real count = (real)(rec.code & HEALTH_COUNT_MASK);
+        mine[SPH_HEALTH_PARTICLES] += 1;
+        mine[SPH_HEALTH_NEIGHBOURS_MIN] = fmin(mine[SPH_HEALTH_NEIGHBOURS_MIN], count);
+        mine[SPH_HEALTH_NEIGHBOURS_MAX] = fmax(mine[SPH_HEALTH_NEIGHBOURS_MAX], count);
+        mine[SPH_HEALTH_NEIGHBOURS_SUM] += count;
+        if (count == 0)
+            continue;
+        mine[SPH_HEALTH_MIN_DISTANCE] = fmin(mine[SPH_HEALTH_MIN_DISTANCE], rec.nearest);
+        if (rec.code & HEALTH_CLUMPED)
+            mine[SPH_HEALTH_CLUMPED] += 1;
+        if (rec.code & HEALTH_SWEGLE)
+            mine[SPH_HEALTH_SWEGLE] += 1;
+    }
+    uchar op[SPH_HEALTH_SLOTS];
+    for (int k = 0; k < SPH_HEALTH_SLOTS; ++k)
+        op[k] = health_slot_is_min(k)            ? REDUCE_MIN
+                : k == SPH_HEALTH_NEIGHBOURS_MAX ? REDUCE_MAX
+                                                 : REDUCE_SUM;
+    work_group_reduce(&acc[0][0], mine, op, SPH_HEALTH_SLOTS, partials);
+}
