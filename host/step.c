@@ -524,13 +524,19 @@ void solver_reduce(struct solver *s, const double load[3], struct reduction *out
     reduce(s, load, out, 0);
 }
 
-void solver_health(struct solver *s, struct health_reading *out)
+/* The mirrors' and halo's positions are the step's start's until the next
+ * step refreshes them, and the drift has moved their sources since: the
+ * health measures between steps take them fresh (tests/check_health.py
+ * found pairs counted against the old ones). */
+static void refresh_ghost_positions(struct solver *s)
 {
-    /* the mirrors' and halo's positions are the last step's start's until
-     * the next step refreshes them: the drift has moved their sources
-     * since (tests/check_health.py found pairs counted against them) */
     static const enum field moved[] = {FIELD_POS};
     solver_ghosts_refresh(s, moved, 1);
+}
+
+void solver_health(struct solver *s, struct health_reading *out)
+{
+    refresh_ghost_positions(s);
     /* each particle's record in the gather target, free between sorts
      * (a record is two reals at most, the target holds a vec or more) */
     struct real_arg a_dx;
@@ -568,6 +574,7 @@ void solver_health(struct solver *s, struct health_reading *out)
 
 void solver_neighbour_counts(struct solver *s, int *count_by_id)
 {
+    refresh_ghost_positions(s);
     SET_ARGS(s, s->k.neighbour_count, MEM("neighbour_count", s->gather_spare), INT("n", s->n));
     solver_launch(s, s->k.neighbour_count, (size_t)s->n, 0);
     int *count = CHECKED_CALLOC((size_t)s->n, sizeof(int), "neighbour counts");
