@@ -371,10 +371,10 @@ static void print_summary_line(const struct run_summary *sum, const char *folder
     printf(" | %s\n", folder);
 }
 
-/* write_history or write_snapshot, timed apart when profiling. */
-/* A write of output, its host time counted apart from the kernels it
- * launches (the health indicators at each history row), which the kernels'
- * time holds: counted in both, the profile's "rest" came out negative. */
+/* write_history or write_snapshot, timed apart when profiling: its host
+ * time less the kernels it launches (the health indicators at each history
+ * row), which the kernels' time holds (counted in both, the profile's "the
+ * rest" came out negative). */
 static int timed_output(struct loop *L, int (*write)(struct loop *))
 {
     struct profiler *p = sph_profiler;
