@@ -176,9 +176,9 @@ __kernel void health_pairs(__global const vec *restrict pos, __global const real
     const real q2 = (run->support / run->h) * (run->support / run->h);
     realv xi[3];
     lane_positions(pos, &b, n, xi);
-    lanes_union index;
+    mask_union index; /* each lane's particle, to leave j = i out */
     for (int l = 0; l < SPH_LANES; ++l)
-        index.s[l] = (real)(b.first + l);
+        index.s[l] = b.first + l;
     realv nearest2 = (realv)INFINITY, count = (realv)0, nearest[3];
 #pragma unroll
     for (int a = 0; a < 3; ++a)
@@ -198,9 +198,7 @@ __kernel void health_pairs(__global const vec *restrict pos, __global const real
             for (int a = 0; a < 3; ++a)
                 xij[a] = a < SPH_DIM ? vec_get(xj, a) - xi[a] : (realv)0;
             const realv r2 = xij[0] * xij[0] + xij[1] * xij[1] + xij[2] * xij[2];
-            /* j itself is the one lane whose index it is (a real compare:
-             * indices below 2^24 are exact in float, as n is) */
-            const maskv within = (r2 < support2) & (index.v != (real)j);
+            const maskv within = (r2 < support2) & (index.v != (maskv)j);
             if (!lanes_any(within))
                 continue;
             count += SPH_SELECT((realv)0, (realv)1, within);
