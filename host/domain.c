@@ -596,7 +596,7 @@ static void record_position(const struct solver *s, const unsigned char *record,
 {
     const unsigned char *at = record + sizeof(int); /* FIELD_POS: the registry's first */
     x[2] = 0;
-    for (int a = 0; a < s->dim; ++a) {
+    for (int a = 0; a < s->dim && a < 3; ++a) { /* the bound for the compiler: dim is 2 or 3 */
         if (s->double_precision) {
             memcpy(&x[a], at + (size_t)a * sizeof(double), sizeof(double));
         } else {
