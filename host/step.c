@@ -36,7 +36,7 @@ static void step_kernels(struct solver *s, int make)
         {&k->kick, "integrate_kick", 0},
         {&k->drift, "integrate_drift", 0},
         {&k->reduce, "reduce_step", 0},
-        {&k->neighbour_count, "health_neighbour_count", 0},
+        {&k->neighbour_count, s->total_lagrangian ? "health_neighbour_count" : NULL, 0},
         {&k->tl_correction, s->total_lagrangian ? "tl_correction" : NULL, 0},
         {&k->tl_deformation, s->total_lagrangian ? "tl_deformation" : NULL, 0},
         {&k->tl_momentum, s->total_lagrangian ? "tl_momentum" : NULL, 0},
@@ -534,16 +534,22 @@ static void refresh_ghost_positions(struct solver *s)
     solver_ghosts_refresh(s, moved, 1);
 }
 
-void solver_health(struct solver *s, struct health_reading *out)
+/* Each particle's health record (kernels/health.cl, health_pairs) in the
+ * gather target, free between sorts (a record is two reals, the target
+ * holds a vec or more). */
+static void health_records(struct solver *s)
 {
     refresh_ghost_positions(s);
-    /* each particle's record in the gather target, free between sorts
-     * (a record is two reals at most, the target holds a vec or more) */
     struct real_arg a_dx;
     SET_ARGS(s, s->k.health_pairs, real_value(s, &a_dx, "dx", s->dx),
              MEM("records", s->gather_spare), INT("n", s->n));
     solver_launch(s, s->k.health_pairs,
                   s->total_lagrangian ? (size_t)s->n : (size_t)solver_lane_blocks(s), 0);
+}
+
+void solver_health(struct solver *s, struct health_reading *out)
+{
+    health_records(s);
     SET_ARGS(s, s->k.health, MEM("records", s->gather_spare), MEM("partials", s->partials),
              INT("n", s->n));
     solver_launch(s, s->k.health, (size_t)s->reduce_groups * REDUCE_GROUP, REDUCE_GROUP);
@@ -572,19 +578,44 @@ void solver_health(struct solver *s, struct health_reading *out)
     out->neighbours_max = nb_max;
 }
 
+/* Each particle's neighbour count into count[]: in the updated Lagrangian
+ * form the health records' (the lane loop's search), in the total
+ * Lagrangian form health_neighbour_count's (its reference neighbours not
+ * torn apart). */
+static void neighbour_counts_of_slots(struct solver *s, int *count)
+{
+    if (s->total_lagrangian) {
+        refresh_ghost_positions(s);
+        SET_ARGS(s, s->k.neighbour_count, MEM("neighbour_count", s->gather_spare), INT("n", s->n));
+        solver_launch(s, s->k.neighbour_count, (size_t)s->n, 0);
+        CL_CHECK(clEnqueueReadBuffer(s->dev->queue, s->gather_spare, CL_TRUE, 0,
+                                     sizeof(int) * (size_t)s->n, count, 0, NULL, NULL));
+        return;
+    }
+    health_records(s);
+    const size_t real_size = s->element_size[ELEM_REAL], record = 2 * real_size;
+    unsigned char *raw = CHECKED_CALLOC((size_t)s->n * record + 1, 1, "health records");
+    if (!raw)
+        return;
+    CL_CHECK(clEnqueueReadBuffer(s->dev->queue, s->gather_spare, CL_TRUE, 0, record * (size_t)s->n,
+                                 raw, 0, NULL, NULL));
+    for (int k = 0; k < s->n; ++k) { /* the int after the record's real */
+        int code;
+        memcpy(&code, raw + (size_t)k * record + real_size, sizeof code);
+        count[k] = code & SPH_HEALTH_COUNT_MASK;
+    }
+    free(raw);
+}
+
 void solver_neighbour_counts(struct solver *s, int *count_by_id)
 {
-    refresh_ghost_positions(s);
-    SET_ARGS(s, s->k.neighbour_count, MEM("neighbour_count", s->gather_spare), INT("n", s->n));
-    solver_launch(s, s->k.neighbour_count, (size_t)s->n, 0);
     int *count = CHECKED_CALLOC((size_t)s->n, sizeof(int), "neighbour counts");
     int *id = CHECKED_CALLOC((size_t)s->n, sizeof(int), "neighbour count ids");
     if (!count || !id) {
         free(count), free(id);
         return;
     }
-    CL_CHECK(clEnqueueReadBuffer(s->dev->queue, s->gather_spare, CL_TRUE, 0,
-                                 sizeof(int) * (size_t)s->n, count, 0, NULL, NULL));
+    neighbour_counts_of_slots(s, count);
     CL_CHECK(clEnqueueReadBuffer(s->dev->queue, s->field[FIELD_ID], CL_TRUE, 0,
                                  sizeof(int) * (size_t)s->n, id, 0, NULL, NULL));
     solver_domain_rows(s, id, s->n);

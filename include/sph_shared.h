@@ -220,7 +220,7 @@ enum sph_reduce_slot {
     SPH_RED_SLOTS = 20
 };
 
-/* Slots of the health-indicator reduction (kernels/reduce.cl,
+/* Slots of the health-indicator reduction (kernels/health.cl,
  * health_indicators). */
 enum sph_health_slot {
     SPH_HEALTH_MIN_DISTANCE = 0, /* smallest pair distance, m (min) */
@@ -232,5 +232,15 @@ enum sph_health_slot {
     SPH_HEALTH_PARTICLES = 6, /* real particles counted (sum) */
     SPH_HEALTH_SLOTS = 8
 };
+
+/* A particle's health record (kernels/health.cl, health_pairs): a real, the
+ * nearest neighbour's distance, then an int, its neighbour count within
+ * the support (the low bits) and these marks; the host reads the counts
+ * back for the integrity measure (host/step.c solver_neighbour_counts), so
+ * the record is two reals wide. */
+#define SPH_HEALTH_COUNTED (1 << 28) /* a real particle, neither ghost nor fixed */
+#define SPH_HEALTH_CLUMPED_MARK (1 << 29)
+#define SPH_HEALTH_SWEGLE_MARK (1 << 30)
+#define SPH_HEALTH_COUNT_MASK ((1 << 28) - 1)
 
 #endif /* SPH_SHARED_H */

@@ -4,12 +4,15 @@
  * indicators each history row reports (host/run.c watch_health).
  */
 
-/* Neighbours of each particle, for the integrity measure (particles that
- * lost more than a third of their initial neighbours). Updated Lagrangian:
- * particles within the support. Total Lagrangian, where the interacting
- * pairs never change: reference neighbours (within the support at t = 0)
- * whose separation has not more than doubled, so that only a tear, not the
- * finite strain of a whole body, counts as a loss.
+#ifdef SPH_TOTAL_LAGRANGIAN
+/* Neighbours of each particle for the integrity measure (particles that
+ * lost more than a third of their initial neighbours) in the total
+ * Lagrangian form, where the interacting pairs never change: reference
+ * neighbours (within the support at t = 0) whose separation has not more
+ * than doubled, so that only a tear, not the finite strain of a whole body,
+ * counts as a loss. The updated Lagrangian form counts the neighbours
+ * within the support, health_pairs' records (host/step.c
+ * solver_neighbour_counts).
  * reads pos, pos0; writes neighbour_count. */
 __kernel void health_neighbour_count(__global const vec *restrict pos,
                                      __global const vec *restrict pos0,
@@ -27,18 +30,14 @@ __kernel void health_neighbour_count(__global const vec *restrict pos,
     {
         const real h = PAIR_H(i, j), support2 = q2 * h * h;
         const vec d = xi - pos[j];
-#ifdef SPH_TOTAL_LAGRANGIAN
         const vec d0 = pos0[i] - pos0[j];
         const real r02 = dot(d0, d0);
         c += (j != i && r02 < support2 && dot(d, d) <= (real)4 * r02) ? 1 : 0;
-#else
-        (void)pos0;
-        c += (j != i && dot(d, d) < support2) ? 1 : 0;
-#endif
     }
     END_FOR_EACH_NEIGHBOUR
     neighbour_count[i] = c;
 }
+#endif
 
 /* Health indicators, in two kernels: health_pairs finds each particle's
  * neighbours within the support (count, nearest) and writes one record per
@@ -65,12 +64,8 @@ __kernel void health_neighbour_count(__global const vec *restrict pos,
  * neighbours is the same one. */
 struct health_record {
     real nearest; /* the nearest neighbour's distance over the particle's own spacing scale, m */
-    int code;     /* neighbours within the support | HEALTH_* marks */
+    int code;     /* neighbours within the support | SPH_HEALTH_* marks (sph_shared.h) */
 };
-#define HEALTH_COUNTED (1 << 28) /* a real particle, neither ghost nor fixed */
-#define HEALTH_CLUMPED (1 << 29)
-#define HEALTH_SWEGLE (1 << 30)
-#define HEALTH_COUNT_MASK ((1 << 28) - 1)
 
 /* W'' at r, a central difference of dW/dr over 1e-3 h, enough for its sign */
 static inline real kernel_d2wdr2(real r, real h)
@@ -87,7 +82,9 @@ static inline struct health_record health_record_of(
     __global const symt *restrict deviatoric_stress, __global const int *restrict flags,
     __constant const struct sph_run_params *run, const real dx)
 {
-    struct health_record rec = {(real)INFINITY, count | HEALTH_COUNTED};
+    /* a fixed particle's count serves the integrity measure only */
+    struct health_record rec = {(real)INFINITY,
+                                count | (flags[i] & SPH_FLAG_FIXED ? 0 : SPH_HEALTH_COUNTED)};
     if (count == 0)
         return rec;
     /* distances in units of the particle's own spacing over dx */
@@ -98,7 +95,7 @@ static inline struct health_record health_record_of(
      * compacts against a projectile's contact; clumping counts intact
      * material only */
     if (r < (real)0.5 * dx && !(flags[i] & SPH_FLAG_DAMAGED))
-        rec.code |= HEALTH_CLUMPED;
+        rec.code |= SPH_HEALTH_CLUMPED_MARK;
     real sigma[3][3], normal[3];
     total_stress(pressure[i], deviatoric_stress[i], sigma);
 #pragma unroll
@@ -111,7 +108,7 @@ static inline struct health_record health_record_of(
         for (int b = 0; b < SPH_DIM; ++b)
             sigma_n += normal[a] * sigma[a][b] * normal[b];
     if (kernel_d2wdr2(r, run->h) * sigma_n > 0) /* in units of its own spacing */
-        rec.code |= HEALTH_SWEGLE;
+        rec.code |= SPH_HEALTH_SWEGLE_MARK;
     return rec;
 }
 
@@ -127,7 +124,7 @@ __kernel void health_pairs(__global const vec *restrict pos, __global const real
     const int i = get_global_id(0);
     if (i >= n)
         return;
-    if (flags[i] & (SPH_FLAG_GHOST | SPH_FLAG_FIXED)) {
+    if (flags[i] & SPH_FLAG_GHOST) {
         records[i] = (struct health_record){(real)INFINITY, 0};
         return;
     }
@@ -212,7 +209,7 @@ __kernel void health_pairs(__global const vec *restrict pos, __global const real
     }
     for (int l = 0; l < SPH_LANES && b.first + l < n; ++l) {
         const int i = b.first + l;
-        if (!lane_live(&b, l) || (flags[i] & SPH_FLAG_FIXED)) {
+        if (!lane_live(&b, l)) { /* a ghost */
             records[i] = (struct health_record){(real)INFINITY, 0};
             continue;
         }
@@ -241,9 +238,9 @@ health_indicators(__global const struct health_record *restrict records,
         mine[k] = health_slot_is_min(k) ? (real)INFINITY : (real)0;
     FOR_GROUP_BLOCK (i, n) {
         const struct health_record rec = records[i];
-        if (!(rec.code & HEALTH_COUNTED))
+        if (!(rec.code & SPH_HEALTH_COUNTED))
             continue;
-        const real count = (real)(rec.code & HEALTH_COUNT_MASK);
+        const real count = (real)(rec.code & SPH_HEALTH_COUNT_MASK);
         mine[SPH_HEALTH_PARTICLES] += 1;
         mine[SPH_HEALTH_NEIGHBOURS_MIN] = fmin(mine[SPH_HEALTH_NEIGHBOURS_MIN], count);
         mine[SPH_HEALTH_NEIGHBOURS_MAX] = fmax(mine[SPH_HEALTH_NEIGHBOURS_MAX], count);
@@ -251,9 +248,9 @@ health_indicators(__global const struct health_record *restrict records,
         if (count == 0)
             continue;
         mine[SPH_HEALTH_MIN_DISTANCE] = fmin(mine[SPH_HEALTH_MIN_DISTANCE], rec.nearest);
-        if (rec.code & HEALTH_CLUMPED)
+        if (rec.code & SPH_HEALTH_CLUMPED_MARK)
             mine[SPH_HEALTH_CLUMPED] += 1;
-        if (rec.code & HEALTH_SWEGLE)
+        if (rec.code & SPH_HEALTH_SWEGLE_MARK)
             mine[SPH_HEALTH_SWEGLE] += 1;
     }
     uchar op[SPH_HEALTH_SLOTS];
