@@ -9,7 +9,13 @@ other layers; means over the rim (outer 30% by radius) and the rest.
 
 Usage: face_stencil.py RUN SNAPSHOT_INDEX...
 """
-run=sys.argv[1]
+import sys
+
+import h5py
+import numpy as np
+from scipy.spatial import cKDTree
+
+run = sys.argv[1]
 for k in map(int, sys.argv[2:]):
     f=h5py.File(f'{run}/snap_{k:05d}.h5'); x=f['position'][...].astype(float); u=f['displacement'][...]; h=f['smoothing_length'][...]
     x0=x-u; z0=x0[:,2]; lv=np.unique(np.round(z0,9)); face=np.abs(z0-lv[0])<1e-9
