@@ -282,24 +282,27 @@ static void test_binding_by_name(void **state)
     struct fixture f;
     setup(&f, 2, xyz, 2);
     cl_kernel k = NULL;
-    const struct kernel_slot slot = {&k, "health_neighbour_count", 0};
+    const struct kernel_slot slot = {&k, "health_pairs", 0};
     solver_kernels(&f.s, &slot, 1, 1);
-    cl_mem counts = f.s.gather_spare;
-    SET_ARGS(&f.s, k, MEM("neighbour_count", counts), INT("n", f.s.n));
+    cl_mem records = f.s.gather_spare;
+    struct real_arg dx;
+    SET_ARGS(&f.s, k, real_value(&f.s, &dx, "dx", 1.0), MEM("records", records), INT("n", f.s.n));
     assert_false(cl_failed());
-    SET_ARGS(&f.s, k, MEM("neighbour_count", counts), INT("n", f.s.n), INT("bogus", f.s.n));
-    assert_non_null(
-        strstr(cl_failure(), "kernel health_neighbour_count: takes no argument `bogus`"));
+    SET_ARGS(&f.s, k, real_value(&f.s, &dx, "dx", 1.0), MEM("records", records), INT("n", f.s.n),
+             INT("bogus", f.s.n));
+    assert_non_null(strstr(cl_failure(), "kernel health_pairs: takes no argument `bogus`"));
     cl_failure_clear();
-    SET_ARGS(&f.s, k, MEM("neighbour_count", counts), INT("n", f.s.n), MEM("flags", counts));
+    SET_ARGS(&f.s, k, real_value(&f.s, &dx, "dx", 1.0), MEM("records", records), INT("n", f.s.n),
+             MEM("flags", records));
     assert_non_null(strstr(cl_failure(), "given a value for the field or solver argument `flags`"));
     cl_failure_clear();
-    SET_ARGS(&f.s, k, MEM("neighbour_count", counts), INT("n", f.s.n), MEM("run", counts));
+    SET_ARGS(&f.s, k, real_value(&f.s, &dx, "dx", 1.0), MEM("records", records), INT("n", f.s.n),
+             MEM("run", records));
     assert_non_null(strstr(cl_failure(), "given a value for the field or solver argument `run`"));
     cl_failure_clear();
-    SET_ARGS(&f.s, k, INT("n", f.s.n));
-    assert_non_null(strstr(cl_failure(),
-                           "no field, solver value or given value for argument `neighbour_count`"));
+    SET_ARGS(&f.s, k, real_value(&f.s, &dx, "dx", 1.0), INT("n", f.s.n));
+    assert_non_null(
+        strstr(cl_failure(), "no field, solver value or given value for argument `records`"));
     cl_failure_clear();
     solver_kernels(&f.s, &slot, 1, 0);
     teardown(&f);
