@@ -340,7 +340,7 @@ static inline void work_group_reduce(__local real *acc, const real *mine, const 
              i = (int)get_group_id(0) * blk_ + (int)get_local_id(0);                               \
          i < end_; i += (int)get_local_size(0))
 
-/* dW/dr at r (the health indicators' W'', reduce.cl). */
+/* dW/dr at r (the health indicators' W'', health.cl). */
 static inline real kernel_dwdr(real r, real h)
 {
     return sph_kernel_dwdr(SPH_KERNEL, SPH_DIM, r, h);

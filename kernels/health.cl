@@ -167,10 +167,10 @@ __kernel void health_pairs(__global const vec *restrict pos, __global const real
     const int live = lane_block_setup(&b, flags, sort_keys, grid_dims, n);
     if (b.first >= n)
         return;
-    /* the support as the cell walk tested it, q2 h^2 (not the passes'
-     * run->support^2: the two round apart by an ulp, and a lattice puts
-     * pairs exactly at 2h when h = 1.5 dx) */
-    const real q2 = (run->support / run->h) * (run->support / run->h);
+    LANE_PASS_CONSTANTS; /* the passes' support: the pairs they see */
+#ifndef SPH_GRADED
+    (void)inv_h;
+#endif
     realv xi[3];
     lane_positions(pos, &b, n, xi);
     mask_union index; /* each lane's particle, to leave j = i out */
@@ -183,18 +183,12 @@ __kernel void health_pairs(__global const vec *restrict pos, __global const real
     if (live) {
         FOR_EACH_LANE_NEIGHBOUR(b, j)
         {
-#ifdef SPH_GRADED
-            const hreal h = PAIR_H_OF(b.scale, spacing_scale(flags[j]));
-#else
-            const hreal h = run->h;
-#endif
-            const hreal support2 = q2 * h * h;
-            realv xij[3];
-            const vec xj = pos[j];
-#pragma unroll
-            for (int a = 0; a < 3; ++a)
-                xij[a] = a < SPH_DIM ? vec_get(xj, a) - xi[a] : (realv)0;
-            const realv r2 = xij[0] * xij[0] + xij[1] * xij[1] + xij[2] * xij[2];
+            LANE_PAIR_SUPPORT(b, j);
+            (void)h;
+            realv xij[3], r2;
+            /* lane_pair's offset and distance; its mask leaves out r = 0,
+             * which a coincident pair (clumping at its end) must not be */
+            (void)lane_pair(xi, pos[j], support2, xij, &r2);
             const maskv within = (r2 < support2) & (index.v != (maskv)j);
             if (!lanes_any(within))
                 continue;
