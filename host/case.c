@@ -116,6 +116,7 @@ static const char *const as_weight_names[] = {"relative", "lattice", NULL};
 static const char *const neighbour_loop_names[] = {"lanes", "plain", "auto", NULL};
 static const char *const lane_lists_names[] = {"false", "true", "auto", NULL};
 static const char *const formulation_names[] = {"updated_lagrangian", "total_lagrangian", NULL};
+static const char *const smoothing_names[] = {"isotropic", "tensor", NULL};
 static const char *const av_scheme_names[] = {"monaghan", "limited", "switch", "cullen_dehnen",
                                               NULL};
 static const char *const motion_names[] = {"free", "prescribed", NULL};
@@ -1018,6 +1019,27 @@ static int check_reference(struct ctx *x, const struct frame *fr, void *base)
     return 0;
 }
 
+/* What the tensor smoothing length is built for (kernels/tensor_smoothing.cl):
+ * the updated Lagrangian passes with the CSPH correction, through which the
+ * metric drops out of the stress terms; the limited viscosity's slopes and
+ * the artificial stress's weight are written for a scalar h. */
+static int check_tensor_smoothing(struct ctx *x, const struct frame *fr,
+                                  const struct case_numerics *n)
+{
+    if (!n->tensor_smoothing)
+        return 0;
+    const char *why = n->total_lagrangian ? "formulation updated_lagrangian"
+                      : !n->csph          ? "csph: true"
+                      : n->as_epsilon > 0 ? "no artificial stress (epsilon 0)"
+                      : n->av_scheme == SPH_AV_LIMITED
+                          ? "an artificial viscosity scheme other than limited"
+                          : NULL;
+    if (why)
+        return fail(x, line_of(fr, "smoothing"), subkey(x, "smoothing"),
+                    "tensor needs %s (kernels/tensor_smoothing.cl)", why);
+    return 0;
+}
+
 static int check_numerics(struct ctx *x, const struct frame *fr, void *base)
 {
     const struct case_numerics *n = base;
@@ -1042,7 +1064,7 @@ static int check_numerics(struct ctx *x, const struct frame *fr, void *base)
                     "expected epsilon 0 with formulation total_lagrangian (it has no tensile "
                     "instability and no artificial stress), got epsilon %g",
                     n->as_epsilon);
-    return 0;
+    return check_tensor_smoothing(x, fr, n);
 }
 
 /* The sphere moves; in an axisymmetric case it stays on the axis. */
@@ -1169,6 +1191,14 @@ static int held_walls(struct ctx *x, const struct frame *fr, struct sph_case *c)
     return 0;
 }
 
+static int case_any_graded(const struct sph_case *c)
+{
+    for (int b = 0; b < c->body_count; ++b)
+        if (c->bodies[b].grading.enabled)
+            return 1;
+    return 0;
+}
+
 static int check_case(struct ctx *x, const struct frame *fr, void *base)
 {
     struct sph_case *c = base;
@@ -1184,6 +1214,17 @@ static int check_case(struct ctx *x, const struct frame *fr, void *base)
     if (c->reference.enabled && !c->has_probe)
         return fail(x, line_of(fr, "reference"), "reference",
                     "needs a probe (add a probe map naming the group to compare)");
+    if (c->numerics.tensor_smoothing) {
+        const char *why = c->dimension == 2 && c->plane == SPH_PLANE_AXISYMMETRIC
+                              ? "an axisymmetric case (its hoop rate v_r / r is exact already)"
+                          : case_any_graded(c) ? "a graded lattice"
+                          : c->projectile.enabled && c->projectile.boundary_integral
+                              ? "the projectile's integral boundary"
+                              : NULL;
+        if (why)
+            return fail(x, line_of(fr, "numerics"), "numerics.smoothing",
+                        "tensor is not built for %s; use isotropic", why);
+    }
     const int bad =
         c->dimension == 2 && c->plane == SPH_PLANE_AXISYMMETRIC ? check_axisymmetric(x, fr, c) : 0;
     return bad ? bad : held_walls(x, fr, c);
@@ -1417,6 +1458,7 @@ static const struct field numerics_fields[] = {
     NUMBER("xsph", struct case_numerics, xsph_epsilon, 0, R_CLOSED, 0, 1, 0, NULL),
     BOOL("csph", struct case_numerics, csph),
     ENUM("formulation", struct case_numerics, total_lagrangian, 0, 0, formulation_names, NULL),
+    ENUM("smoothing", struct case_numerics, tensor_smoothing, 0, 0, smoothing_names, NULL),
     NUMBER("hourglass", struct case_numerics, hourglass, 0, R_NONNEG, 0, 0, 10, NULL),
     NUMBER("cfl", struct case_numerics, cfl, 0, R_LEFT_OPEN, 0, 1, 0.3, NULL),
     NUMBER("end_time", struct case_numerics, end_time, F_REQUIRED, R_POSITIVE, 0, 0, 0, "s"),

@@ -28,6 +28,7 @@ static const char *const source_files[] = {
     "kernels/material_models.cl",
     "kernels/material.cl",
     "kernels/lanes.cl",
+    "kernels/tensor_smoothing.cl",
     "kernels/sphere_wall.cl", /* pass 1 and projectile.cl use it */
     "kernels/pass1.cl",
     "kernels/pass2.cl",

@@ -55,7 +55,8 @@ const struct field_info field_table[FIELD_COUNT] = {
     /* the limited viscosity's reconstruction reads a neighbour's (pass 1
      * -> pass 2); both passes 1 use their own L at once */
     [FIELD_VELOCITY_GRADIENT] = {"velocity_gradient", "velocity_gradient", ELEM_FULLT, 1,
-                                 USED_AV_LIMITED, USED_AV_LIMITED, MIRROR_REFLECT, NULL},
+                                 USED_AV_LIMITED | USED_TENSOR_SMOOTHING, USED_AV_LIMITED,
+                                 MIRROR_REFLECT, NULL},
     [FIELD_AV_ALPHA] = {"artificial_viscosity_alpha", "av_alpha", ELEM_REAL, 1, USED_AV_SWITCH,
                         USED_AV_SWITCH, MIRROR_COPY, "1"},
     /* d(div v)/dt, Cullen & Dehnen's shock indicator, from two steps */
@@ -65,6 +66,10 @@ const struct field_info field_table[FIELD_COUNT] = {
      * (kernels/material.cl); pass 2 reads only the sum, deviatoric_stress */
     [FIELD_VISCOUS_STRESS] = {"viscous_stress", "viscous_stress", ELEM_SYMT, 1, USED_VISCOSITY, 0,
                               MIRROR_NONE, NULL},
+    /* the kernel's ellipsoid, carried by integrate_drift with pass 1's L
+     * (the reason velocity_gradient exists with it) */
+    [FIELD_SMOOTHING_METRIC] = {"smoothing_metric", "smoothing_metric", ELEM_SYMT, 1,
+                                USED_TENSOR_SMOOTHING, USED_TENSOR_SMOOTHING, MIRROR_REFLECT, "1"},
     [FIELD_ACCELERATION] = {"acceleration", "acceleration", ELEM_VEC, 0, ALL, 0, MIRROR_NONE, NULL},
     [FIELD_ENERGY_RATE] = {"energy_rate", "energy_rate", ELEM_REAL, 0, ALL, 0, MIRROR_NONE, NULL},
     /* pass 2 rewrites it every step; kept as state (sorted, checkpointed)
@@ -93,7 +98,8 @@ unsigned solver_configuration(const struct solver *s)
                                                                                   : 0u) |
            (s->av_scheme == SPH_AV_CULLEN_DEHNEN ? USED_AV_CULLEN_DEHNEN : 0u) |
            (s->artificial_stress ? USED_ARTIFICIAL_STRESS : 0u) |
-           (s->wall_count > 0 ? USED_WALLS : 0u) | (s->viscosity ? USED_VISCOSITY : 0u);
+           (s->wall_count > 0 ? USED_WALLS : 0u) | (s->viscosity ? USED_VISCOSITY : 0u) |
+           (s->tensor_smoothing ? USED_TENSOR_SMOOTHING : 0u);
 }
 
 int solver_field_used(const struct solver *s, enum field f)

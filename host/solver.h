@@ -53,6 +53,7 @@ enum field {
     FIELD_AV_ALPHA,             /* the switch viscosity's alpha per particle */
     FIELD_AV_DIVERGENCE,        /* cullen_dehnen: the last step's div v, 1/s */
     FIELD_VISCOUS_STRESS,       /* the physical viscosity's part of deviatoric_stress */
+    FIELD_SMOOTHING_METRIC, /* numerics.smoothing tensor: h0^2 M (kernels/tensor_smoothing.cl) */
     FIELD_ACCELERATION,
     FIELD_ENERGY_RATE,
     FIELD_VISCOUS_HEATING, /* W/kg: the artificial viscosity's part of energy_rate */
@@ -77,6 +78,7 @@ enum field_use {
     USED_WALLS = 1 << 6,
     USED_VISCOSITY = 1 << 7,
     USED_AV_CULLEN_DEHNEN = 1 << 8,
+    USED_TENSOR_SMOOTHING = 1 << 9,
 };
 
 struct field_info {
@@ -196,6 +198,7 @@ struct solver {
     int lanes;                   /* particles per work-item of passes 1 and 2 (solver_lanes) */
     int lane_lists;              /* the lanes visit candidate lists (solver_uses_lane_lists) */
     int csph, artificial_stress; /* the corrections in use: their fields exist */
+    int tensor_smoothing;        /* numerics.smoothing: tensor (kernels/tensor_smoothing.cl) */
     int viscosity;               /* some material has a physical viscosity */
     int av_scheme;               /* enum sph_av_scheme: its fields exist */
     double dx;                   /* lattice spacing, m */
@@ -243,6 +246,9 @@ int solver_lanes(const struct sph_case *c);
 /* Whether the lane passes visit candidate lists (numerics.lane_lists) or
  * walk the cells (kernels/lanes.cl). */
 int solver_uses_lane_lists(const struct sph_case *c);
+/* The search reach over the isotropic support: SPH_TENSOR_AXIS_MAX with
+ * numerics.smoothing tensor, else 1. */
+double solver_reach_factor(const struct sph_case *c);
 /* numerics.lane_lists auto: true, unless `particles` fit `device_bytes`
  * only without the lists (said on stderr unless quiet). */
 void solver_choose_lane_lists(struct sph_case *c, double particles, double device_bytes, int quiet);

@@ -26,6 +26,7 @@ void solver_configure(struct solver *s, const struct sph_case *c)
     s->csph = c->numerics.csph;
     s->av_scheme = c->numerics.av_scheme;
     s->artificial_stress = c->numerics.as_epsilon > 0;
+    s->tensor_smoothing = c->numerics.tensor_smoothing;
     s->viscosity = case_has_viscosity(c);
     s->wall_count = penalty_wall_count(c); /* wall_force exists only with them */
     const size_t r = s->double_precision ? sizeof(cl_double) : sizeof(cl_float);
@@ -47,9 +48,9 @@ size_t solver_lane_list_estimate(const struct sph_case *c)
 {
     if (!solver_uses_lane_lists(c))
         return 0;
-    const double radius =
-        sph_support_q(c->numerics.kernel) * c->numerics.h_over_dx * (1.0 + SPH_GRID_SKIN) +
-        1.0; /* in spacings */
+    const double radius = sph_support_q(c->numerics.kernel) * c->numerics.h_over_dx *
+                              solver_reach_factor(c) * (1.0 + SPH_GRID_SKIN) +
+                          1.0; /* in spacings */
     const double ball =
         c->dimension == 3 ? 4.0 / 3.0 * M_PI * pow(radius, 3) : M_PI * radius * radius;
     return (size_t)ceil(1.25 * ball * sizeof(cl_int) / SPH_LANES_DEFAULT);
@@ -87,6 +88,11 @@ int solver_lanes(const struct sph_case *c)
 {
     /* auto not yet resolved for a device (sph check, unit tests): a CPU's */
     return c->numerics.neighbour_loop == SPH_LOOP_PLAIN ? 1 : SPH_LANES_DEFAULT;
+}
+
+double solver_reach_factor(const struct sph_case *c)
+{
+    return c->numerics.tensor_smoothing ? SPH_TENSOR_AXIS_MAX : 1.0;
 }
 
 int solver_uses_lane_lists(const struct sph_case *c)
@@ -145,10 +151,10 @@ void solver_build_options(const struct sph_case *c, char *options, size_t size)
     const size_t used = strlen(options);
     /* SPH_BUILD_OPTIONS: kernel developers' experiments, extra -D or -cl-* options */
     const char *extra = getenv("SPH_BUILD_OPTIONS");
-    snprintf(options + used, size - used, " -DSPH_LANES=%d%s%s %s", solver_lanes(c),
+    snprintf(options + used, size - used, " -DSPH_LANES=%d%s%s%s %s", solver_lanes(c),
              solver_lanes(c) > 1 && !solver_uses_lane_lists(c) ? " -DSPH_LANE_CELL_WALK" : "",
              c->projectile.enabled && c->projectile.boundary_integral ? " -DSPH_SPHERE_WALL" : "",
-             extra ? extra : "");
+             num->tensor_smoothing ? " -DSPH_TENSOR_SMOOTHING" : "", extra ? extra : "");
 }
 
 /* The largest element of the fields in use (persistent ones only, or all). */
@@ -254,6 +260,22 @@ static void upload_reals(struct solver *s, cl_mem buffer, const double *values, 
     CL_CHECK(
         clEnqueueWriteBuffer(s->dev->queue, buffer, CL_TRUE, 0, slots * r, tmp, 0, NULL, NULL));
     free(tmp);
+}
+
+/* The tensor smoothing's metric on the lattice: the identity (kernels/
+ * tensor_smoothing.cl), in every slot. */
+static void upload_identity_metric(struct solver *s)
+{
+    const int width = s->dim == 2 ? 4 : 6; /* kernels/common.cl's symt */
+    const size_t count = (size_t)s->capacity * width;
+    double *values = CHECKED_CALLOC(count + 1, sizeof(double), "metric upload");
+    if (!values)
+        return;
+    for (size_t k = 0; k < (size_t)s->capacity; ++k)
+        for (int a = 0; a < 3; ++a)
+            values[k * width + a] = 1.0;
+    upload_reals(s, s->field[FIELD_SMOOTHING_METRIC], values, count, width);
+    free(values);
 }
 
 /* 3-component host vectors of n particles to the device vec layout (2 or
@@ -486,6 +508,8 @@ int solver_create_buffers(struct solver *s, const struct sph_case *c, const stru
     }
     free(ids);
     free(temperature);
+    if (s->tensor_smoothing)
+        upload_identity_metric(s);
     /* every other field starts at zero (solver_create_buffer); the
      * pressure, sound speed and artificial stress of the initial state are
      * written by solver_prime's material update, before anything reads them */

@@ -73,7 +73,8 @@ static void fill_run_params(struct solver *s, const struct sph_case *c)
     const double h = num->h_over_dx * num->dx;
     s->run.h = (real)h;
     s->dt_viscous = case_viscous_time_step(c, h);
-    s->run.support = (real)(h * sph_support_q(num->kernel));
+    /* the search's support: with a tensor smoothing length the longest axis's */
+    s->run.support = (real)(h * sph_support_q(num->kernel) * solver_reach_factor(c));
     s->run.av_alpha = (real)num->av_alpha;
     s->run.av_beta = (real)num->av_beta;
     s->run.av_eta_crit = (real)(1.0 / num->h_over_dx);

@@ -177,6 +177,8 @@ struct case_numerics {
     int as_lattice_weight;       /* weight: 0 relative (default), 1 lattice (Monaghan 2000) */
     double xsph_epsilon;         /* default 0 (off) */
     int csph;                    /* default 0 */
+    int tensor_smoothing;        /* smoothing: 0 isotropic (default), 1 tensor (an ellipsoid per
+                                    particle, kernels/tensor_smoothing.cl) */
     int total_lagrangian;        /* formulation: 0 updated_lagrangian (default), 1 total */
     double hourglass;            /* total Lagrangian hourglass control coefficient, default 10 */
     double cfl;                  /* default 0.3 */

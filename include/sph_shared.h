@@ -77,6 +77,11 @@ enum sph_flag {
  * block; measured on the 3-D Taylor bar, 1 is as fast as 2 and faster than
  * 3 (docs/performance.md). */
 #define SPH_GRID_SPLIT 1
+/* numerics.smoothing tensor: the longest semi-axis of a particle's kernel
+ * over h0, so the search reaches this many isotropic supports
+ * (kernels/tensor_smoothing.cl; 2.5: the copper Taylor face's in-plane
+ * stretch reaches about 2.2, docs/design_asph.md) */
+#define SPH_TENSOR_AXIS_MAX 2.5
 #define SPH_REACH_SHIFT 12
 #define SPH_REACH_MASK 255
 /* The flag bits a ghost (mirror image or MPI halo particle) keeps of its

@@ -108,14 +108,20 @@ __kernel void integrate_kick(__global vec *restrict vel, __global vec *restrict 
  * The drift also writes what the material update (run inside pass 1 in
  * the updated Lagrangian form) must leave to after every particle's pass 1:
  * the new density rho0 + density_change, and the damage flag.
- * reads xsph_velocity, pos0, density_change, plastic_strain, material;
- * updates vel_half, displacement, flags; writes pos, rho. */
+ * With SPH_TENSOR_SMOOTHING it carries the kernel's ellipsoid with the
+ * material too (pass 1's L over the step, tensor_smoothing.cl).
+ * reads xsph_velocity, pos0, density_change, plastic_strain, material,
+ * velocity_gradient (SPH_TENSOR_SMOOTHING); updates vel_half,
+ * displacement, flags, smoothing_metric (SPH_TENSOR_SMOOTHING); writes pos,
+ * rho. */
 __kernel void
 integrate_drift(__global vec *restrict pos, __global vec *restrict displacement,
                 __global const vec *restrict pos0, __global vec *restrict vel_half,
                 __global const vec *restrict xsph_velocity, __global int *restrict flags,
                 __global real *restrict rho, __global const real *restrict density_change,
                 __global const real *restrict plastic_strain, __global const int *restrict material,
+                __global const fullt *restrict velocity_gradient,
+                __global symt *restrict smoothing_metric,
                 __constant const struct sph_material *materials, const real dt, const real4 plane,
                 const real4 side, const real plane_gap, const int n)
 {
@@ -128,6 +134,16 @@ integrate_drift(__global vec *restrict pos, __global vec *restrict displacement,
         flags[i] |= SPH_FLAG_DAMAGED;
     if (flags[i] & SPH_FLAG_FIXED)
         return;
+#ifdef SPH_TENSOR_SMOOTHING
+    real metric[3][3], grad_v[3][3];
+    symt_load(smoothing_metric[i], metric);
+    fullt_load(velocity_gradient[i], grad_v);
+    metric_advance(metric, grad_v, dt); /* carried with the material: tensor_smoothing.cl */
+    smoothing_metric[i] = symt_store(metric);
+#else
+    (void)velocity_gradient;
+    (void)smoothing_metric;
+#endif
     const vec u = displacement[i] + dt * (vel_half[i] + xsph_velocity[i]);
     const vec x0 = pos0[i];
     real x[3] = {vec_get(x0 + u, 0), vec_get(x0 + u, 1), vec_get(x0 + u, 2)};

@@ -44,8 +44,10 @@ static inline real lane_of(realv v, int l)
 
 /* The pair's smoothing length: one number on a uniform lattice, a lane
  * vector on a graded one (the mean of the two particles' h, common.cl
- * PAIR_H), where each lane's particle has its own level. */
-#ifdef SPH_GRADED
+ * PAIR_H), where each lane's particle has its own level, and with a tensor
+ * smoothing length (the two ellipsoids' lengths along the pair,
+ * tensor_smoothing.cl). */
+#if defined(SPH_GRADED) || defined(SPH_TENSOR_SMOOTHING)
 typedef realv hreal;
 #else
 typedef real hreal;

@@ -16,7 +16,11 @@
  * neighbours (integrate_drift writes the new density).
  *
  * With SPH_AV_LIMITED the (corrected) L_i is also stored, for pass 2's
- * reconstruction of the pair velocity jump (pass2.cl).
+ * reconstruction of the pair velocity jump (pass2.cl); with
+ * SPH_TENSOR_SMOOTHING too, for integrate_drift's update of the metric.
+ * With SPH_TENSOR_SMOOTHING each particle sums with its own ellipsoidal
+ * kernel's weight and the CSPH correction is tensor_csph_correction's
+ * (kernels/tensor_smoothing.cl).
  *
  * With SPH_SPHERE_WALL (projectile.boundary: integral) a particle near the
  * rigid sphere also gets the sphere's share of its sums (sphere_wall.cl).
@@ -34,16 +38,25 @@ static inline void pass1_finish(
     int i, real grad_v[3][3], real moment[3][3], __global const real *restrict rho,
     __global const int *restrict material, __global const int *restrict flags,
     __constant const struct sph_material *materials, __constant const struct sph_run_params *run,
-    __global symt *restrict csph, __global fullt *restrict velocity_gradient, const real dt,
-    __global const vec *restrict pos, __global const vec *restrict vel, MATERIAL_STATE_ARGS)
+    __global symt *restrict csph, __global fullt *restrict velocity_gradient,
+    __global const symt *restrict smoothing_metric, const real dt, __global const vec *restrict pos,
+    __global const vec *restrict vel, MATERIAL_STATE_ARGS)
 {
 #ifndef SPH_CSPH
     (void)moment;
     (void)csph;
+    (void)smoothing_metric;
 #endif
 #ifdef SPH_CSPH
     real c[3][3], corrected[3][3];
+#ifdef SPH_TENSOR_SMOOTHING
+    real metric[3][3];
+    symt_load(smoothing_metric[i], metric);
+    tensor_csph_correction(moment, metric, c);
+#else
+    (void)smoothing_metric;
     csph_correction(moment, c);
+#endif
     matrix_product(grad_v, c, corrected);
 #pragma unroll
     for (int a = 0; a < 3; ++a)
@@ -52,7 +65,7 @@ static inline void pass1_finish(
             grad_v[a][b] = corrected[a][b];
     csph[i] = symt_store(c);
 #endif
-#ifdef SPH_AV_LIMITED
+#if defined(SPH_AV_LIMITED) || defined(SPH_TENSOR_SMOOTHING)
     velocity_gradient[i] = fullt_store(grad_v);
 #else
     (void)velocity_gradient;
@@ -71,18 +84,17 @@ static inline void pass1_finish(
 
 /* What it reads and writes: the header above. One work-item per lane block
  * (kernels/lanes.cl). */
-__kernel void
-pass1_velocity_gradient(__global const vec *restrict pos, __global const vec *restrict vel_half,
-                        __global const real *restrict rho, __global const real *restrict mass,
-                        __global const int *restrict material, __global const int *restrict flags,
-                        LANE_GRID_ARGS, __constant const struct sph_material *materials,
-                        __constant const struct sph_run_params *run, __global symt *restrict csph,
-                        __global fullt *restrict velocity_gradient, const real dt,
-                        MATERIAL_STATE_ARGS,
+__kernel void pass1_velocity_gradient(
+    __global const vec *restrict pos, __global const vec *restrict vel_half,
+    __global const real *restrict rho, __global const real *restrict mass,
+    __global const int *restrict material, __global const int *restrict flags, LANE_GRID_ARGS,
+    __constant const struct sph_material *materials, __constant const struct sph_run_params *run,
+    __global symt *restrict csph, __global fullt *restrict velocity_gradient,
+    __global const symt *restrict smoothing_metric, const real dt, MATERIAL_STATE_ARGS,
 #ifdef SPH_SPHERE_WALL
-                        __global const real *restrict projectile_state,
+    __global const real *restrict projectile_state,
 #endif
-                        const int n)
+    const int n)
 {
     struct lane_block b;
     if (!lane_block_setup(&b, flags, sort_keys, grid_dims, n))
@@ -94,6 +106,10 @@ pass1_velocity_gradient(__global const vec *restrict pos, __global const vec *re
     realv grad_v[3][3], moment[3][3];
     tensor_zero_v(grad_v);
     tensor_zero_v(moment);
+#ifdef SPH_TENSOR_SMOOTHING
+    realv metric_i[3][3], volume_factor_i;
+    metric_lanes(smoothing_metric, &b, n, metric_i, &volume_factor_i);
+#endif
     FOR_EACH_LANE_NEIGHBOUR(b, j)
     {
         realv xij[3], r2;
@@ -103,9 +119,17 @@ pass1_velocity_gradient(__global const vec *restrict pos, __global const vec *re
             continue;
         LANE_PAIR_INV_H;
         const real volume = plane_mass(mass[j], pos[j], run) / rho[j];
+#ifdef SPH_TENSOR_SMOOTHING
+        /* i's own ellipsoid: the weight s_i of tensor_smoothing.cl's header */
+        const realv dwdr_r = SPH_SELECT(
+            (realv)0,
+            volume_factor_i * kernel_dwdr_over_r_q(metric_eta_lanes(metric_i, xij, inv_h), inv_h),
+            near);
+#else
         /* grad_i W_ij = dW/dr x_ij / r; zero for lanes out of reach */
         const realv dwdr_r =
             SPH_SELECT((realv)0, kernel_dwdr_over_r_q(sqrt(r2) * inv_h, inv_h), near);
+#endif
         /* V_j grad W = s x_ij: the gradient's scale taken once per pair */
         const realv s = volume * dwdr_r;
         const vec vj = vel_half[j];
@@ -133,6 +157,6 @@ pass1_velocity_gradient(__global const vec *restrict pos, __global const vec *re
                           projectile_state, run);
 #endif
         pass1_finish(b.first + l, gv, m, rho, material, flags, materials, run, csph,
-                     velocity_gradient, dt, pos, vel_half, MATERIAL_STATE);
+                     velocity_gradient, smoothing_metric, dt, pos, vel_half, MATERIAL_STATE);
     }
 }

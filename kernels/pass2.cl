@@ -163,6 +163,9 @@ struct pass2_lanes_i {
 #ifdef SPH_AV_LIMITED
     realv l[3][3];
 #endif
+#ifdef SPH_TENSOR_SMOOTHING
+    realv metric[3][3], volume_factor; /* tensor_smoothing.cl */
+#endif
     realv alpha;         /* SPH_AV_SWITCH: each lane's own alpha (else unused) */
     real beta_per_alpha; /* SPH_AV_SWITCH: the case's beta / alpha */
 };
@@ -440,10 +443,10 @@ __kernel void pass2_momentum_energy(
     __global const symt *restrict deviatoric_stress,
     __global const symt *restrict artificial_stress, __global const symt *restrict csph,
     __global const real *restrict sound_speed, __global const fullt *restrict velocity_gradient,
-    __global const real *restrict av_alpha, __global const int *restrict flags, LANE_GRID_ARGS,
-    __constant const struct sph_run_params *run, __global vec *restrict acceleration,
-    __global real *restrict energy_rate, __global real *restrict viscous_heating,
-    __global vec *restrict xsph_velocity, const int n)
+    __global const real *restrict av_alpha, __global const symt *restrict smoothing_metric,
+    __global const int *restrict flags, LANE_GRID_ARGS, __constant const struct sph_run_params *run,
+    __global vec *restrict acceleration, __global real *restrict energy_rate,
+    __global real *restrict viscous_heating, __global vec *restrict xsph_velocity, const int n)
 {
     struct lane_block b;
     if (!lane_block_setup(&b, flags, sort_keys, grid_dims, n))
@@ -452,6 +455,11 @@ __kernel void pass2_momentum_energy(
     struct pass2_lanes_i I;
     pass2_gather(&I, &b, n, pos, pos0, vel, rho, pressure, deviatoric_stress, artificial_stress,
                  csph, sound_speed, velocity_gradient, av_alpha, run);
+#ifdef SPH_TENSOR_SMOOTHING
+    metric_lanes(smoothing_metric, &b, n, I.metric, &I.volume_factor);
+#else
+    (void)smoothing_metric;
+#endif
     realv acc[3] = {(realv)0, (realv)0, (realv)0}, xsph[3] = {(realv)0, (realv)0, (realv)0};
     realv de_viscous = (realv)0, de_stress = (realv)0; /* the two artificial heatings */
     FOR_EACH_LANE_NEIGHBOUR(b, j)
@@ -462,7 +470,16 @@ __kernel void pass2_momentum_energy(
         if (!lanes_any(near))
             continue;
         LANE_PAIR_INV_H;
+#ifdef SPH_TENSOR_SMOOTHING
+        struct tensor_pair tp;
+        tensor_pair_weights(&tp, I.metric, I.volume_factor, smoothing_metric, j, xij, r2, inv_h, h,
+                            near);
         const realv q = sqrt(r2) * inv_h;
+        const hreal h_pair = tp.h;
+#else
+        const realv q = sqrt(r2) * inv_h;
+        const hreal h_pair = h;
+#endif
         const vec vj = vel[j];
         realv vij[3];
 #pragma unroll
@@ -472,21 +489,36 @@ __kernel void pass2_momentum_energy(
         PAIR_MASSES(I, j);
         const real rho_j = rho[j], m_over_rho_j = m_j / rho_j;
         const realv inv_rho_mean = (real)2 / (I.rho + rho_j);
-        const realv pi_ij = pass2_viscosity(&I, vx, vij, xij, q, r2, h, inv_rho_mean, j,
+        const realv pi_ij = pass2_viscosity(&I, vx, vij, xij, q, r2, h_pair, inv_rho_mean, j,
                                             sound_speed, velocity_gradient, av_alpha, run);
+        realv grad[3], g_j[3];
+#ifdef SPH_TENSOR_SMOOTHING
+        /* i's traction takes i's weight, j's j's (C_j in pass2_gradients);
+         * the viscosity the pair's mean gradient */
+        pass2_gradients(tp.s_j, xij, csph, j, grad, g_j);
+#pragma unroll
+        for (int a = 0; a < 3; ++a)
+            grad[a] = tp.s_i * xij[a];
+        const realv *av_grad = tp.mean_gradient;
+        de_viscous += (real)0.5 * m_pair * pi_ij *
+                      (av_grad[0] * vij[0] + av_grad[1] * vij[1] + av_grad[2] * vij[2]);
+#else
         const realv dwdr_r = SPH_SELECT((realv)0, kernel_dwdr_over_r_q(q, inv_h), near);
+        pass2_gradients(dwdr_r, xij, csph, j, grad, g_j);
+        const realv *av_grad = grad;
         /* the viscosity's heating, -1/2 m v_ij . (-Pi g): its share of de */
         de_viscous += (real)0.5 * m_pair * pi_ij * dwdr_r * vx;
-        realv grad[3], g_j[3];
-        pass2_gradients(dwdr_r, xij, csph, j, grad, g_j);
+#endif
         /* (sigma_i . g_i + sigma_j . g_j) / (rho_i rho_j) and the
          * artificial terms (f^n (R_i + R_j) - Pi I) . g */
         realv t_i[3], t_j[3], extra[3];
         pass2_tractions(&I, pressure[j], deviatoric_stress[j], grad, g_j, t_i, t_j);
 #pragma unroll
         for (int a = 0; a < SPH_DIM; ++a)
-            extra[a] = -pi_ij * grad[a];
-#if defined(SPH_ARTIFICIAL_STRESS) || defined(SPH_XSPH)
+            extra[a] = -pi_ij * av_grad[a];
+#if defined(SPH_TENSOR_SMOOTHING) && defined(SPH_XSPH)
+        const realv w = tp.w; /* the mean of the two kernels' W */
+#elif defined(SPH_ARTIFICIAL_STRESS) || defined(SPH_XSPH)
         const realv w = kernel_w_q(q, inv_h); /* W(r_ij) */
 #endif
 #ifdef SPH_ARTIFICIAL_STRESS

@@ -8,25 +8,28 @@
  * power times dt is the exact work of the step's load.
  * reads: pos, displacement, vel_half, xsph_velocity, mass, energy, rho,
  * sound_speed, flags, id, wall_force (with walls), viscous_heating,
- * hourglass_power (total Lagrangian); writes: partials.
+ * hourglass_power (total Lagrangian), smoothing_metric (numerics.smoothing
+ * tensor: the time step's signal over the shortest axis); writes: partials.
  */
 static inline bool slot_is_max(int slot)
 {
     return slot == SPH_RED_MAX_SIGNAL || slot == SPH_RED_MAX_SPEED || slot == SPH_RED_MAX_DRIFT;
 }
 
-__kernel __attribute__((reqd_work_group_size(REDUCE_WG, 1, 1))) void
-reduce_step(__global const vec *restrict pos, __global const vec *restrict displacement,
-            __global const vec *restrict vel_half, __global const vec *restrict xsph_velocity,
-            __global const real *restrict mass, __global const real *restrict energy,
-            __global const real *restrict rho, __global const real *restrict sound_speed,
-            __global const int *restrict flags, __global const int *restrict id,
-            __global const vec *restrict wall_force, const int wall_count,
-            __global const real *restrict viscous_heating,
-            __global const real *restrict hourglass_power,
-            __constant const struct sph_run_params *run, const real4 load_force,
-            __global real *restrict partials, const int n)
+__kernel __attribute__((reqd_work_group_size(REDUCE_WG, 1, 1))) void reduce_step(
+    __global const vec *restrict pos, __global const vec *restrict displacement,
+    __global const vec *restrict vel_half, __global const vec *restrict xsph_velocity,
+    __global const real *restrict mass, __global const real *restrict energy,
+    __global const real *restrict rho, __global const real *restrict sound_speed,
+    __global const int *restrict flags, __global const int *restrict id,
+    __global const vec *restrict wall_force, const int wall_count,
+    __global const real *restrict viscous_heating, __global const real *restrict hourglass_power,
+    __global const symt *restrict smoothing_metric, __constant const struct sph_run_params *run,
+    const real4 load_force, __global real *restrict partials, const int n)
 {
+#ifndef SPH_TENSOR_SMOOTHING
+    (void)smoothing_metric;
+#endif
     __local real acc[REDUCE_WG][SPH_RED_SLOTS];
     real mine[SPH_RED_SLOTS];
     for (int k = 0; k < SPH_RED_SLOTS; ++k)
@@ -39,7 +42,16 @@ reduce_step(__global const vec *restrict pos, __global const vec *restrict displ
             continue;
         const vec v = vel_half[i], x = pos[i];
         const real speed = length(v);
-        mine[SPH_RED_MAX_SIGNAL] = fmax(mine[SPH_RED_MAX_SIGNAL], sound_speed[i] + speed);
+#ifdef SPH_TENSOR_SMOOTHING
+        /* the time step follows the shortest axis: the signal crosses it in
+         * dt (tensor_smoothing.cl) */
+        real metric[3][3];
+        symt_load(smoothing_metric[i], metric);
+        const real signal = (sound_speed[i] + speed) * metric_shortest_axis_factor(metric);
+#else
+        const real signal = sound_speed[i] + speed;
+#endif
+        mine[SPH_RED_MAX_SIGNAL] = fmax(mine[SPH_RED_MAX_SIGNAL], signal);
         mine[SPH_RED_MAX_SPEED] = fmax(mine[SPH_RED_MAX_SPEED], speed);
         mine[SPH_RED_MAX_DRIFT] = fmax(mine[SPH_RED_MAX_DRIFT], length(v + xsph_velocity[i]));
         const bool bad = isnan(speed) || isinf(speed) || !(speed <= run->velocity_limit) ||
