@@ -460,6 +460,15 @@ static const struct bad_input bad_inputs[] = {
              "  - {name: floor, point: [0, -0.005], normal: [0, 1], hold: true}\n"
              "  - {name: lid, point: [0, 0.005], normal: [0, -1], hold: true}\n",
      13, "walls.1: wall 'lid' is held on y = 0.005, but wall 'floor' already holds y = -0.005"},
+    {"a tensor smoothing length without CSPH",
+     MINIMAL "numerics: {dx: 1e-3, end_time: 1e-3, smoothing: tensor}\n", 12,
+     "numerics.smoothing: tensor needs csph: true"},
+    {"a tensor smoothing length in an axisymmetric case",
+     "dimension: 2\nplane: axisymmetric\n"
+     "materials:\n  - {name: steel, density: 7800, youngs_modulus: 210.0e9, poisson_ratio: 0.3}\n"
+     "bodies:\n  - {name: bar, material: steel, min: [0, 0], max: [0.003, 0.03]}\n"
+     "numerics: {dx: 1e-3, end_time: 1e-3, csph: true, smoothing: tensor}\n",
+     7, "numerics.smoothing: tensor is not built for an axisymmetric case"},
     {"a second document", "dimension: 2\n---\ndimension: 3\n", 3, "a second YAML document"},
     {"a list at the top", "- dimension: 2\n", 1, "expected a map of case keys, got a sequence"},
     {"too many materials",
