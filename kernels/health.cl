@@ -189,7 +189,14 @@ __kernel void health_pairs(__global const vec *restrict pos, __global const real
             /* lane_pair's offset and distance; its mask leaves out r = 0,
              * which a coincident pair (clumping at its end) must not be */
             (void)lane_pair(xi, pos[j], support2, xij, &r2);
-            const maskv within = (r2 < support2) & (index.v != (maskv)j);
+#ifdef SPH_TENSOR_SMOOTHING
+            /* counted within the isotropic support, not the search's reach
+             * of TENSOR_AXIS_MAX supports (tensor_smoothing.cl) */
+            const real counted2 = support2 * (real)(1.0 / (TENSOR_AXIS_MAX * TENSOR_AXIS_MAX));
+#else
+            const hreal counted2 = support2;
+#endif
+            const maskv within = (r2 < counted2) & (index.v != (maskv)j);
             if (!lanes_any(within))
                 continue;
             count += SPH_SELECT((realv)0, (realv)1, within);

@@ -30,8 +30,17 @@ from scipy.spatial import cKDTree
 
 def load(run, k):
     f = h5py.File(f"{run}/snap_{k:05d}.h5", "r")
-    return {n: f[n][...] for n in ("position", "displacement", "velocity", "stress",
-                                   "plastic_strain", "mass", "density", "smoothing_length")}
+    s = {n: f[n][...] for n in ("position", "displacement", "velocity", "stress",
+                                "plastic_strain", "mass", "density", "smoothing_length")}
+    if "smoothing_metric" in f:  # numerics.smoothing: tensor (session 38)
+        s["smoothing_metric"] = f["smoothing_metric"][...]
+    return s
+
+
+def metric_of(row):
+    """The 3 x 3 metric G = h0^2 M of a snapshot row XX YY ZZ XY YZ XZ."""
+    xx, yy, zz, xy, yz, xz = row
+    return np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
 
 
 def cylindrical(s, axisymmetric):
@@ -61,11 +70,21 @@ def sph_hoop_rate(s, face):
     VOL = np.concatenate([vol] * len(images))
     tree = cKDTree(X)
     rates = []
+    metric = s.get("smoothing_metric")
     for i in np.flatnonzero(face):
-        js = [j for j in tree.query_ball_point(x[i], 2 * h[i]) if j != i]
+        # with a tensor smoothing length each particle's own ellipsoid
+        # (kernels/tensor_smoothing.cl): q = |H_i x| and the same weights
+        # (dW/dr / r of q); with CSPH the metric cancels but for them
+        reach = 2 * h[i] * (2.5 if metric is not None else 1.0)
+        js = [j for j in tree.query_ball_point(x[i], reach) if j != i]
         xij = x[i] - X[js]
-        q = np.linalg.norm(xij, axis=1) / h[i]
-        grad = (-(1 - q / 2) ** 3)[:, None] * xij  # Wendland C2: dW/dr / r, constant left out
+        if metric is not None:
+            y = xij / h[i]
+            q = np.sqrt(np.einsum("ja,ab,jb->j", y, metric_of(metric[i]), y))
+        else:
+            q = np.linalg.norm(xij, axis=1) / h[i]
+        # Wendland C2: dW/dr / r, constant left out
+        grad = (-np.maximum(1 - q / 2, 0) ** 3)[:, None] * xij
         g = ((V[js] - v[i]) * VOL[js, None]).T @ grad
         b = ((X[js] - x[i]) * VOL[js, None]).T @ grad
         d = 0.5 * (g @ np.linalg.inv(b) + (g @ np.linalg.inv(b)).T)
