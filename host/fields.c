@@ -70,6 +70,9 @@ const struct field_info field_table[FIELD_COUNT] = {
      * (the reason velocity_gradient exists with it) */
     [FIELD_SMOOTHING_METRIC] = {"smoothing_metric", "smoothing_metric", ELEM_SYMT, 1,
                                 USED_TENSOR_SMOOTHING, USED_TENSOR_SMOOTHING, MIRROR_REFLECT, "1"},
+    /* read of a neighbour by the lane lists' build */
+    [FIELD_SMOOTHING_REACH] = {"smoothing_reach", "smoothing_reach", ELEM_REAL, 1,
+                               USED_TENSOR_SMOOTHING, USED_TENSOR_SMOOTHING, MIRROR_COPY, "1"},
     [FIELD_ACCELERATION] = {"acceleration", "acceleration", ELEM_VEC, 0, ALL, 0, MIRROR_NONE, NULL},
     [FIELD_ENERGY_RATE] = {"energy_rate", "energy_rate", ELEM_REAL, 0, ALL, 0, MIRROR_NONE, NULL},
     /* pass 2 rewrites it every step; kept as state (sorted, checkpointed)

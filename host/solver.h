@@ -54,6 +54,7 @@ enum field {
     FIELD_AV_DIVERGENCE,        /* cullen_dehnen: the last step's div v, 1/s */
     FIELD_VISCOUS_STRESS,       /* the physical viscosity's part of deviatoric_stress */
     FIELD_SMOOTHING_METRIC, /* numerics.smoothing tensor: h0^2 M (kernels/tensor_smoothing.cl) */
+    FIELD_SMOOTHING_REACH,  /* ... and its longest semi-axis over h0 (the lane lists' reach) */
     FIELD_ACCELERATION,
     FIELD_ENERGY_RATE,
     FIELD_VISCOUS_HEATING, /* W/kg: the artificial viscosity's part of energy_rate */

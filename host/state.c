@@ -263,7 +263,7 @@ static void upload_reals(struct solver *s, cl_mem buffer, const double *values, 
 }
 
 /* The tensor smoothing's metric on the lattice: the identity (kernels/
- * tensor_smoothing.cl), in every slot. */
+ * tensor_smoothing.cl), and its longest semi-axis 1, in every slot. */
 static void upload_identity_metric(struct solver *s)
 {
     const int width = s->dim == 2 ? 4 : 6; /* kernels/common.cl's symt */
@@ -275,6 +275,9 @@ static void upload_identity_metric(struct solver *s)
         for (int a = 0; a < 3; ++a)
             values[k * width + a] = 1.0;
     upload_reals(s, s->field[FIELD_SMOOTHING_METRIC], values, count, width);
+    for (size_t k = 0; k < (size_t)s->capacity; ++k)
+        values[k] = 1.0; /* the longest semi-axis over h0 */
+    upload_reals(s, s->field[FIELD_SMOOTHING_REACH], values, (size_t)s->capacity, 1);
     free(values);
 }
 

@@ -113,7 +113,7 @@ __kernel void integrate_kick(__global vec *restrict vel, __global vec *restrict 
  * reads xsph_velocity, pos0, density_change, plastic_strain, material,
  * velocity_gradient (SPH_TENSOR_SMOOTHING); updates vel_half,
  * displacement, flags, smoothing_metric (SPH_TENSOR_SMOOTHING); writes pos,
- * rho. */
+ * rho, smoothing_reach (SPH_TENSOR_SMOOTHING). */
 __kernel void
 integrate_drift(__global vec *restrict pos, __global vec *restrict displacement,
                 __global const vec *restrict pos0, __global vec *restrict vel_half,
@@ -121,7 +121,7 @@ integrate_drift(__global vec *restrict pos, __global vec *restrict displacement,
                 __global real *restrict rho, __global const real *restrict density_change,
                 __global const real *restrict plastic_strain, __global const int *restrict material,
                 __global const fullt *restrict velocity_gradient,
-                __global symt *restrict smoothing_metric,
+                __global symt *restrict smoothing_metric, __global real *restrict smoothing_reach,
                 __constant const struct sph_material *materials, const real dt, const real4 plane,
                 const real4 side, const real plane_gap, const int n)
 {
@@ -138,11 +138,13 @@ integrate_drift(__global vec *restrict pos, __global vec *restrict displacement,
     real metric[3][3], grad_v[3][3];
     symt_load(smoothing_metric[i], metric);
     fullt_load(velocity_gradient[i], grad_v);
-    metric_advance(metric, grad_v, dt); /* carried with the material: tensor_smoothing.cl */
+    /* carried with the material: tensor_smoothing.cl */
+    smoothing_reach[i] = metric_advance(metric, grad_v, dt);
     smoothing_metric[i] = symt_store(metric);
 #else
     (void)velocity_gradient;
     (void)smoothing_metric;
+    (void)smoothing_reach;
 #endif
     const vec u = displacement[i] + dt * (vel_half[i] + xsph_velocity[i]);
     const vec x0 = pos0[i];

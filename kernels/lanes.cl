@@ -284,8 +284,9 @@ static inline realv lane_distance2(const realv xi[3], vec xj)
  * Lagrangian form), flags, the grid; writes: lane_list_range, lane_list,
  * list_claim (zeroed by the host before the first launch). */
 __kernel void lane_list_build(__global const vec *restrict at, __global const int *restrict flags,
-                              GRID_ARGS, __constant const struct sph_run_params *run,
-                              const real reach_scale, __global int2 *restrict lane_list_range,
+                              __global const real *restrict smoothing_reach, GRID_ARGS,
+                              __constant const struct sph_run_params *run, const real reach_scale,
+                              __global int2 *restrict lane_list_range,
                               __global int *restrict lane_list,
                               volatile __global int *restrict list_claim, const int capacity,
                               const int rewalk, const int n)
@@ -308,9 +309,21 @@ __kernel void lane_list_build(__global const vec *restrict at, __global const in
     realv xi[3];
     lane_positions(at, &b, n, xi);
     const real reach2 = reach_scale * reach_scale;
+#ifdef SPH_TENSOR_SMOOTHING
+    /* the support (run->support) is the longest ellipsoid's the run allows;
+     * a pair is kept within the longer of its two particles' axes
+     * (smoothing_reach, over h0), in units of that support */
+    const realv axis_i = gather_real(smoothing_reach, &b, n) * (real)(1.0 / SPH_TENSOR_AXIS_MAX);
+#define LIST_REACH2(j)                                                                             \
+    (reach2 * fmax(axis_i, (realv)(smoothing_reach[j] * (real)(1.0 / SPH_TENSOR_AXIS_MAX))) *      \
+     fmax(axis_i, (realv)(smoothing_reach[j] * (real)(1.0 / SPH_TENSOR_AXIS_MAX))))
+#else
+    (void)smoothing_reach;
+#define LIST_REACH2(j) reach2
+#endif
     int count = 0;
     if (rewalk) { /* the place is claimed: no store past it */
-        LANE_LIST_CANDIDATES(b, xi, reach2, j, keep)
+        LANE_LIST_CANDIDATES(b, xi, LIST_REACH2(j), j, keep)
         if (keep)
             lane_list[range.x + count++] = j;
         END_LANE_LIST_CANDIDATES
@@ -320,7 +333,7 @@ __kernel void lane_list_build(__global const vec *restrict at, __global const in
      * of a full room): with the store under a branch a launch took 79-84
      * against 66-69 ms on gelatin3d-120k */
     int room[SPH_LANE_LIST_ROOM + 1];
-    LANE_LIST_CANDIDATES(b, xi, reach2, j, keep)
+    LANE_LIST_CANDIDATES(b, xi, LIST_REACH2(j), j, keep)
     room[min(count, SPH_LANE_LIST_ROOM)] = j;
     count += keep;
     END_LANE_LIST_CANDIDATES
@@ -333,6 +346,7 @@ __kernel void lane_list_build(__global const vec *restrict at, __global const in
     else
         atomic_inc(&list_claim[1]);
 }
+#undef LIST_REACH2
 
 /* Lane l of a tensor per lane, and the tensor of lanes. */
 static inline void lanes_tensor_put(lanes_union u[3][3], int l, real t[3][3])

@@ -172,8 +172,9 @@ static inline void tensor_csph_correction(real a[3][3], real g[3][3], real c[3][
 
 /* The metric carried one step with the material and its semi-axes held
  * within [1 / TENSOR_AXIS_MAX, TENSOR_AXIS_MAX] h0 (the header). l: the
- * corrected velocity gradient, dt: the step. */
-static inline void metric_advance(real g[3][3], real l[3][3], real dt)
+ * corrected velocity gradient, dt: the step. Returns the longest semi-axis
+ * over h0 (smoothing_reach: the lane lists' per-particle reach). */
+static inline real metric_advance(real g[3][3], real l[3][3], real dt)
 {
     real f[3][3], f_inv[3][3], t[3][3], moved[3][3];
     for (int p = 0; p < 3; ++p)
@@ -192,6 +193,9 @@ static inline void metric_advance(real g[3][3], real l[3][3], real dt)
     symmetric_eigen(moved, v);
     const real lo = (real)(1.0 / (TENSOR_AXIS_MAX * TENSOR_AXIS_MAX)),
                hi = (real)(TENSOR_AXIS_MAX * TENSOR_AXIS_MAX);
+    real smallest = hi;
+    for (int k = 0; k < SPH_DIM; ++k)
+        smallest = fmin(smallest, clamp(moved[k][k], lo, hi));
     for (int p = 0; p < 3; ++p)
         for (int q = 0; q < 3; ++q) {
             real sum = 0;
@@ -199,6 +203,7 @@ static inline void metric_advance(real g[3][3], real l[3][3], real dt)
                 sum += v[p][k] * v[q][k] * clamp(moved[k][k], lo, hi);
             g[p][q] = p < SPH_DIM && q < SPH_DIM ? sum : (real)(p == q);
         }
+    return (real)1 / sqrt(smallest);
 }
 
 /* h0 / (the shortest semi-axis) = sqrt(largest eigenvalue of G): the time
