@@ -52,34 +52,19 @@ static inline realv metric_norm2_lanes(const realv g[3][3], const realv y[3])
     return sum;
 }
 
-/* y^T G y for lanes of y and one G (the neighbour's) */
-static inline realv metric_norm2(const real g[3][3], const realv y[3])
+/* G broadcast to every lane (a neighbour's metric): the lanes' forms
+ * below then serve it too */
+static inline void metric_broadcast(const real g[3][3], realv out[3][3])
 {
-    realv sum = (realv)0;
 #pragma unroll
-    for (int a = 0; a < SPH_DIM; ++a) {
-        realv row = (realv)0;
+    for (int a = 0; a < 3; ++a)
 #pragma unroll
-        for (int c = 0; c < SPH_DIM; ++c)
-            row += g[a][c] * y[c];
-        sum += y[a] * row;
-    }
-    return sum;
+        for (int c = 0; c < 3; ++c)
+            out[a][c] = (realv)g[a][c];
 }
 
 /* G x over the first SPH_DIM components, lanes of G and of x */
 static inline void metric_times_lanes(const realv g[3][3], const realv x[3], realv out[3])
-{
-#pragma unroll
-    for (int a = 0; a < 3; ++a) {
-        out[a] = (realv)0;
-#pragma unroll
-        for (int c = 0; c < SPH_DIM; ++c)
-            out[a] += a < SPH_DIM ? g[a][c] * x[c] : (realv)0;
-    }
-}
-
-static inline void metric_times(const real g[3][3], const realv x[3], realv out[3])
 {
 #pragma unroll
     for (int a = 0; a < 3; ++a) {
@@ -126,16 +111,6 @@ static inline realv metric_eta_lanes(const realv g[3][3], const realv x[3], real
     for (int a = 0; a < 3; ++a)
         y[a] = x[a] * inv_h;
     return sqrt(metric_norm2_lanes(g, y));
-}
-
-/* ... and for one neighbour's metric */
-static inline realv metric_eta(const real g[3][3], const realv x[3], real inv_h)
-{
-    realv y[3];
-#pragma unroll
-    for (int a = 0; a < 3; ++a)
-        y[a] = x[a] * inv_h;
-    return sqrt(metric_norm2(g, y));
 }
 
 /* G^1/2 of a symmetric positive definite G (its eigenvalues floored at a
@@ -239,7 +214,9 @@ static inline void tensor_pair_weights(struct tensor_pair *p, const realv g_i[3]
     real g_j[3][3];
     symt_load(smoothing_metric[j], g_j);
     const real volume_factor_j = metric_volume_factor(g_j);
-    const realv eta_i = metric_eta_lanes(g_i, x, inv_h), eta_j = metric_eta(g_j, x, inv_h);
+    realv g_jv[3][3];
+    metric_broadcast(g_j, g_jv);
+    const realv eta_i = metric_eta_lanes(g_i, x, inv_h), eta_j = metric_eta_lanes(g_jv, x, inv_h);
     p->s_i = SPH_SELECT((realv)0, volume_factor_i * kernel_dwdr_over_r_q(eta_i, inv_h), near);
     p->s_j = SPH_SELECT((realv)0, volume_factor_j * kernel_dwdr_over_r_q(eta_j, inv_h), near);
     const realv tiny = (realv)1e-6, r = sqrt(r2);
@@ -248,7 +225,7 @@ static inline void tensor_pair_weights(struct tensor_pair *p, const realv g_i[3]
                       near);
     realv gx_i[3], gx_j[3];
     metric_times_lanes(g_i, x, gx_i);
-    metric_times(g_j, x, gx_j);
+    metric_times_lanes(g_jv, x, gx_j);
 #pragma unroll
     for (int a = 0; a < 3; ++a)
         p->mean_gradient[a] = (real)0.5 * (p->s_i * gx_i[a] + p->s_j * gx_j[a]);

@@ -199,18 +199,15 @@ FLOWS = [
 PAIRS = [(0, 0), (1, 1), (2, 2), (0, 1), (1, 2), (0, 2)]
 
 
-def run_flow(sph, work, flow):
-    """Runs one flow; returns (time, interior mask, snapshot arrays) or a failure."""
-    name, dim, plane, lo, hi, velocity, gradient, material, end, formulation = flow[:10]
-    # the solver's default step unless the flow sets its own
-    cfl_line = f"  cfl: {flow[12]}\n" if len(flow) > 12 else ""
+def run_case(sph, work, name, text, names):
+    """Writes the case text, runs it; returns (time, initial positions, the
+    named fields) of its last snapshot, or a failure (also for
+    tests/check_tensor_smoothing.py)."""
     folder = os.path.join(work, name)
     os.makedirs(folder, exist_ok=True)
     path = os.path.join(folder, "case.yaml")
     with open(path, "w") as f:
-        f.write(CASE.format(name=name, dim=dim, plane=plane, material=material, lo=lo, hi=hi,
-                            velocity=velocity, gradient=gradient, dx=DX, t=end,
-                            formulation=formulation, cfl_line=cfl_line))
+        f.write(text)
     out = os.path.join(folder, "run")
     proc = subprocess.run([sph, "run", path, "--out", out, "--quiet"], capture_output=True,
                           text=True)
@@ -219,7 +216,21 @@ def run_flow(sph, work, flow):
     with h5py.File(os.path.join(out, "snap_00001.h5")) as snap:
         time = float(snap.attrs["time_s"][0])
         x0 = snap["position"][:] - snap["displacement"][:]
-        fields = {k: snap[k][:] for k in ("stress", "internal_energy", "density")}
+        return time, x0, {k: snap[k][:] for k in names}
+
+
+def run_flow(sph, work, flow):
+    """Runs one flow; returns (time, interior mask, snapshot arrays) or a failure."""
+    name, dim, plane, lo, hi, velocity, gradient, material, end, formulation = flow[:10]
+    # the solver's default step unless the flow sets its own
+    cfl_line = f"  cfl: {flow[12]}\n" if len(flow) > 12 else ""
+    text = CASE.format(name=name, dim=dim, plane=plane, material=material, lo=lo, hi=hi,
+                       velocity=velocity, gradient=gradient, dx=DX, t=end,
+                       formulation=formulation, cfl_line=cfl_line)
+    result = run_case(sph, work, name, text, ("stress", "internal_energy", "density"))
+    if isinstance(result, str):
+        return result
+    time, x0, fields = result
     inner = np.ones(len(x0), dtype=bool)
     for a in range(dim):
         # the axis of an axisymmetric block is not a face: its rings are checked too
@@ -258,13 +269,15 @@ def check_flow(sph, work, flow):
     return failures
 
 
-def main():
+def main(flows=FLOWS, check=check_flow, usage=__doc__):
+    """Runs check(sph, work, flow) for each flow (also for
+    tests/check_tensor_smoothing.py); exits 1 on any failure."""
     if len(sys.argv) != 3:
-        sys.exit(__doc__)
+        sys.exit(usage)
     sph, work = sys.argv[1], sys.argv[2]
     failures = []
-    for flow in FLOWS:
-        failures += check_flow(sph, work, flow)
+    for flow in flows:
+        failures += check(sph, work, flow)
     for failure in failures:
         print("FAIL:", failure)
     sys.exit(1 if failures else 0)

@@ -29,14 +29,13 @@ Tolerances: the metric to 1% of its largest component, the stress to 1% of
 the largest (the isotropic kernel's tolerance); measured: see the output.
 """
 import os
-import subprocess
 import sys
 
-import h5py
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from check_homogeneous_flow import CASE, DX, ELASTIC, PAIRS, compare, jaumann_shear  # noqa: E402
+from check_homogeneous_flow import (CASE, DX, ELASTIC, PAIRS, compare,  # noqa: E402
+                                    jaumann_shear, main, run_case)
 
 AXIS_MAX = 2.5  # include/sph_shared.h SPH_TENSOR_AXIS_MAX
 BOX = 0.020  # m: 20 dx
@@ -60,26 +59,16 @@ def expected_metric(gradient, time):
 
 
 def run(sph, work, name, gradient, end, cfl):
-    folder = os.path.join(work, name)
-    os.makedirs(folder, exist_ok=True)
-    path = os.path.join(folder, "case.yaml")
-    centre = BOX / 2
     l0 = np.array(gradient, dtype=float).reshape(3, 3)
-    velocity = list(-l0 @ np.full(3, centre))  # the flow's fixed point at the box centre
-    with open(path, "w") as f:
-        f.write(CASE.format(name=name, dim=3, plane="", material=ELASTIC, lo=[0, 0, 0],
-                            hi=[BOX] * 3, velocity=velocity, gradient=gradient, dx=DX, t=end,
-                            formulation="updated_lagrangian",
-                            cfl_line=f"  cfl: {cfl}\n  smoothing: tensor\n"))
-    out = os.path.join(folder, "run")
-    proc = subprocess.run([sph, "run", path, "--out", out, "--quiet"], capture_output=True,
-                          text=True)
-    if proc.returncode != 0:
-        return f"{name}: sph exited {proc.returncode}: {proc.stderr.strip()}"
-    with h5py.File(os.path.join(out, "snap_00001.h5")) as snap:
-        time = float(snap.attrs["time_s"][0])
-        x0 = snap["position"][:] - snap["displacement"][:]
-        fields = {k: snap[k][:] for k in ("stress", "smoothing_metric")}
+    velocity = list(-l0 @ np.full(3, BOX / 2))  # the flow's fixed point at the box centre
+    text = CASE.format(name=name, dim=3, plane="", material=ELASTIC, lo=[0, 0, 0], hi=[BOX] * 3,
+                       velocity=velocity, gradient=gradient, dx=DX, t=end,
+                       formulation="updated_lagrangian",
+                       cfl_line=f"  cfl: {cfl}\n  smoothing: tensor\n")
+    result = run_case(sph, work, name, text, ("stress", "smoothing_metric"))
+    if isinstance(result, str):
+        return result
+    time, x0, fields = result
     inner = np.all((x0 > MARGIN) & (x0 < BOX - MARGIN), axis=1)
     return time, inner, fields
 
@@ -106,17 +95,5 @@ def check(sph, work, flow):
     return failures
 
 
-def main():
-    if len(sys.argv) != 3:
-        sys.exit(__doc__)
-    sph, work = sys.argv[1], sys.argv[2]
-    failures = []
-    for flow in FLOWS:
-        failures += check(sph, work, flow)
-    for failure in failures:
-        print("FAIL:", failure)
-    sys.exit(1 if failures else 0)
-
-
 if __name__ == "__main__":
-    main()
+    main(FLOWS, check, __doc__)
