@@ -308,17 +308,20 @@ __kernel void lane_list_build(__global const vec *restrict at, __global const in
 #endif
     realv xi[3];
     lane_positions(at, &b, n, xi);
-    const real reach2 = reach_scale * reach_scale;
 #ifdef SPH_TENSOR_SMOOTHING
     /* the support (run->support) is the longest ellipsoid's the run allows;
      * a pair is kept within the longer of its two particles' axes
-     * (smoothing_reach, over h0), in units of that support */
+     * (smoothing_reach, over h0; in units of that support) plus the grid's
+     * whole skin of it: the sort comes when a particle has moved half the
+     * skin of run->support (host/step.c), whatever its own axes */
     const realv axis_i = gather_real(smoothing_reach, &b, n) * (real)(1.0 / SPH_TENSOR_AXIS_MAX);
+    const real margin = reach_scale - (real)1;
 #define LIST_REACH2(j)                                                                             \
-    (reach2 * fmax(axis_i, (realv)(smoothing_reach[j] * (real)(1.0 / SPH_TENSOR_AXIS_MAX))) *      \
-     fmax(axis_i, (realv)(smoothing_reach[j] * (real)(1.0 / SPH_TENSOR_AXIS_MAX))))
+    ((fmax(axis_i, (realv)(smoothing_reach[j] * (real)(1.0 / SPH_TENSOR_AXIS_MAX))) + margin) *    \
+     (fmax(axis_i, (realv)(smoothing_reach[j] * (real)(1.0 / SPH_TENSOR_AXIS_MAX))) + margin))
 #else
     (void)smoothing_reach;
+    const real reach2 = reach_scale * reach_scale;
 #define LIST_REACH2(j) reach2
 #endif
     int count = 0;
