@@ -261,6 +261,21 @@ static inline realv lane_distance2(const realv xi[3], vec xj)
 #define SPH_LANE_LIST_ROOM 1024
 #endif
 
+#ifdef SPH_TENSOR_SMOOTHING
+/* With numerics.smoothing tensor (tensor_smoothing.cl), the lists' reach,
+ * squared, in units of the search's support (run->support: the longest
+ * axis SPH_TENSOR_AXIS_MAX allows), for lanes whose longest semi-axes over
+ * h0 are axis_i against a neighbour's axis_j: the longer of the two
+ * ellipsoids plus the grid's whole skin of the search's support (margin:
+ * the sort waits for a move of half of it, whatever the particles' own
+ * axes; host/step.c) */
+static inline realv tensor_list_reach2(realv axis_i, real axis_j, real margin)
+{
+    const realv reach = fmax(axis_i, (realv)axis_j) * (real)(1.0 / SPH_TENSOR_AXIS_MAX) + margin;
+    return reach * reach;
+}
+#endif
+
 /* Each lane block's candidate list (FOR_EACH_LANE_NEIGHBOUR), one
  * work-item per block, one walk per sort (host/step.c,
  * solver_lane_lists_build). A candidate of the cell walk is kept when some
@@ -309,16 +324,11 @@ __kernel void lane_list_build(__global const vec *restrict at, __global const in
     realv xi[3];
     lane_positions(at, &b, n, xi);
 #ifdef SPH_TENSOR_SMOOTHING
-    /* the support (run->support) is the longest ellipsoid's the run allows;
-     * a pair is kept within the longer of its two particles' axes
-     * (smoothing_reach, over h0; in units of that support) plus the grid's
-     * whole skin of it: the sort comes when a particle has moved half the
-     * skin of run->support (host/step.c), whatever its own axes */
-    const realv axis_i = gather_real(smoothing_reach, &b, n) * (real)(1.0 / SPH_TENSOR_AXIS_MAX);
+    /* a pair is kept within the longer of its two particles' ellipsoids
+     * (tensor_list_reach2 above) */
+    const realv axis_i = gather_real(smoothing_reach, &b, n);
     const real margin = reach_scale - (real)1;
-#define LIST_REACH2(j)                                                                             \
-    ((fmax(axis_i, (realv)(smoothing_reach[j] * (real)(1.0 / SPH_TENSOR_AXIS_MAX))) + margin) *    \
-     (fmax(axis_i, (realv)(smoothing_reach[j] * (real)(1.0 / SPH_TENSOR_AXIS_MAX))) + margin))
+#define LIST_REACH2(j) tensor_list_reach2(axis_i, smoothing_reach[j], margin)
 #else
     (void)smoothing_reach;
     const real reach2 = reach_scale * reach_scale;

@@ -470,14 +470,13 @@ __kernel void pass2_momentum_energy(
         if (!lanes_any(near))
             continue;
         LANE_PAIR_INV_H;
+        const realv q = sqrt(r2) * inv_h;
 #ifdef SPH_TENSOR_SMOOTHING
         struct tensor_pair tp;
         tensor_pair_weights(&tp, I.metric, I.volume_factor, smoothing_metric, j, xij, r2, inv_h, h,
                             near);
-        const realv q = sqrt(r2) * inv_h;
         const hreal h_pair = tp.h;
 #else
-        const realv q = sqrt(r2) * inv_h;
         const hreal h_pair = h;
 #endif
         const vec vj = vel[j];

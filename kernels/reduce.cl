@@ -8,8 +8,9 @@
  * power times dt is the exact work of the step's load.
  * reads: pos, displacement, vel_half, xsph_velocity, mass, energy, rho,
  * sound_speed, flags, id, wall_force (with walls), viscous_heating,
- * hourglass_power (total Lagrangian), smoothing_metric (numerics.smoothing
- * tensor: the time step's signal over the shortest axis); writes: partials.
+ * hourglass_power (total Lagrangian), smoothing_metric and
+ * smoothing_reach (numerics.smoothing tensor: the time step's signal over
+ * the shortest axis); writes: partials.
  */
 static inline bool slot_is_max(int slot)
 {
@@ -24,11 +25,13 @@ __kernel __attribute__((reqd_work_group_size(REDUCE_WG, 1, 1))) void reduce_step
     __global const int *restrict flags, __global const int *restrict id,
     __global const vec *restrict wall_force, const int wall_count,
     __global const real *restrict viscous_heating, __global const real *restrict hourglass_power,
-    __global const symt *restrict smoothing_metric, __constant const struct sph_run_params *run,
-    const real4 load_force, __global real *restrict partials, const int n)
+    __global const symt *restrict smoothing_metric, __global const real *restrict smoothing_reach,
+    __constant const struct sph_run_params *run, const real4 load_force,
+    __global real *restrict partials, const int n)
 {
 #ifndef SPH_TENSOR_SMOOTHING
     (void)smoothing_metric;
+    (void)smoothing_reach;
 #endif
     __local real acc[REDUCE_WG][SPH_RED_SLOTS];
     real mine[SPH_RED_SLOTS];
@@ -47,7 +50,8 @@ __kernel __attribute__((reqd_work_group_size(REDUCE_WG, 1, 1))) void reduce_step
          * dt (tensor_smoothing.cl) */
         real metric[3][3];
         symt_load(smoothing_metric[i], metric);
-        const real signal = (sound_speed[i] + speed) * metric_shortest_axis_factor(metric);
+        const real signal =
+            (sound_speed[i] + speed) * metric_shortest_axis_factor(metric, smoothing_reach[i]);
 #else
         const real signal = sound_speed[i] + speed;
 #endif

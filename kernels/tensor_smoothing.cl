@@ -96,7 +96,7 @@ static inline void metric_lanes(__global const symt *restrict smoothing_metric,
     lanes_union f;
     for (int l = 0; l < SPH_LANES; ++l) {
         real t[3][3];
-        symt_load(b->first + l < n ? smoothing_metric[b->first + l] : symt_zero(), t);
+        tensor_lane(g, l, t);
         f.s[l] = metric_volume_factor(t);
     }
     *volume_factor = f.v;
@@ -113,22 +113,31 @@ static inline realv metric_eta_lanes(const realv g[3][3], const realv x[3], real
     return sqrt(metric_norm2_lanes(g, y));
 }
 
-/* G^1/2 of a symmetric positive definite G (its eigenvalues floored at a
- * tiny positive value) */
-static inline void metric_square_root(real g[3][3], real root[3][3])
+/* The symmetric matrix with eigenvectors v (columns) and eigenvalues
+ * value[k] over the first SPH_DIM dimensions, the identity beyond */
+static inline void metric_from_eigen(real v[3][3], const real value[3], real g[3][3])
 {
-    real t[3][3], v[3][3];
-    for (int p = 0; p < 3; ++p)
-        for (int q = 0; q < 3; ++q)
-            t[p][q] = g[p][q];
-    symmetric_eigen(t, v);
     for (int p = 0; p < 3; ++p)
         for (int q = 0; q < 3; ++q) {
             real sum = 0;
             for (int k = 0; k < SPH_DIM; ++k)
-                sum += v[p][k] * v[q][k] * sqrt(fmax(t[k][k], (real)1e-12));
-            root[p][q] = p < SPH_DIM && q < SPH_DIM ? sum : (real)(p == q);
+                sum += v[p][k] * v[q][k] * value[k];
+            g[p][q] = p < SPH_DIM && q < SPH_DIM ? sum : (real)(p == q);
         }
+}
+
+/* G^1/2 of a symmetric positive definite G (its eigenvalues floored at a
+ * tiny positive value) */
+static inline void metric_square_root(real g[3][3], real root[3][3])
+{
+    real t[3][3], v[3][3], value[3] = {1, 1, 1};
+    for (int p = 0; p < 3; ++p)
+        for (int q = 0; q < 3; ++q)
+            t[p][q] = g[p][q];
+    symmetric_eigen(t, v);
+    for (int k = 0; k < SPH_DIM; ++k)
+        value[k] = sqrt(fmax(t[k][k], (real)1e-12));
+    metric_from_eigen(v, value, root);
 }
 
 /* C = A^-1 of pass 1's moment A (close to G^-1), with csph_correction's
@@ -164,35 +173,35 @@ static inline real metric_advance(real g[3][3], real l[3][3], real dt)
                 sum += f_inv[k][p] * t[k][q];
             moved[p][q] = sum;
         }
-    real v[3][3];
+    real v[3][3], value[3] = {1, 1, 1};
     symmetric_eigen(moved, v);
     const real lo = (real)(1.0 / (TENSOR_AXIS_MAX * TENSOR_AXIS_MAX)),
                hi = (real)(TENSOR_AXIS_MAX * TENSOR_AXIS_MAX);
     real smallest = hi;
-    for (int k = 0; k < SPH_DIM; ++k)
-        smallest = fmin(smallest, clamp(moved[k][k], lo, hi));
-    for (int p = 0; p < 3; ++p)
-        for (int q = 0; q < 3; ++q) {
-            real sum = 0;
-            for (int k = 0; k < SPH_DIM; ++k)
-                sum += v[p][k] * v[q][k] * clamp(moved[k][k], lo, hi);
-            g[p][q] = p < SPH_DIM && q < SPH_DIM ? sum : (real)(p == q);
-        }
+    for (int k = 0; k < SPH_DIM; ++k) {
+        value[k] = clamp(moved[k][k], lo, hi);
+        smallest = fmin(smallest, value[k]);
+    }
+    metric_from_eigen(v, value, g);
     return (real)1 / sqrt(smallest);
 }
 
-/* h0 / (the shortest semi-axis) = sqrt(largest eigenvalue of G): the time
- * step's signal speed is scaled by it (reduce.cl) */
-static inline real metric_shortest_axis_factor(real g[3][3])
+/* h0 / (the shortest semi-axis) = sqrt(largest eigenvalue of G), at least
+ * 1: the time step's signal speed is scaled by it (reduce.cl). Without a
+ * second eigen-decomposition: the drift's longest semi-axis a (over h0,
+ * smoothing_reach) gives the smallest eigenvalue 1 / a^2, so the other
+ * two are the roots of x^2 - (tr G - 1 / a^2) x + det G a^2 (in 2-D the
+ * other one is tr G - 1 / a^2). */
+static inline real metric_shortest_axis_factor(real g[3][3], real longest_axis)
 {
-    real t[3][3], v[3][3];
-    for (int p = 0; p < 3; ++p)
-        for (int q = 0; q < 3; ++q)
-            t[p][q] = g[p][q];
-    symmetric_eigen(t, v);
-    real largest = t[0][0];
-    for (int k = 1; k < SPH_DIM; ++k)
-        largest = fmax(largest, t[k][k]);
+    const real smallest = (real)1 / (longest_axis * longest_axis);
+#if SPH_DIM == 2
+    const real largest = g[0][0] + g[1][1] - smallest;
+#else
+    const real sum = g[0][0] + g[1][1] + g[2][2] - smallest,
+               product = determinant3(g) * longest_axis * longest_axis;
+    const real largest = (real)0.5 * (sum + sqrt(fmax(sum * sum - (real)4 * product, (real)0)));
+#endif
     return sqrt(fmax(largest, (real)1));
 }
 
