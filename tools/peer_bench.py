@@ -173,6 +173,22 @@ def viscosity_of(run_folder):
     return "%s viscosity %s/%s" % (scheme, keys.get("alpha", "?"), keys.get("beta", "?"))
 
 
+def ours_timing(a, b):
+    """(steps, wall seconds, how) from the summaries of the warm-up run A and
+    the timed run B: the difference B - A, which leaves out the start-up
+    inside wall_time_s (initial snapshot, first search); the whole of B when
+    that difference is no more than 5% of B's wall, too small to rise above
+    the start-up's noise (a loaded machine, a tiny run)."""
+    steps = b["steps"] - a["steps"]
+    wall = b["wall_time_s"] - a["wall_time_s"]
+    if steps > 0 and wall > 0.05 * b["wall_time_s"]:
+        return steps, wall, ("(wall_B - wall_A)/(steps_B - steps_A) of summary.json "
+                             "wall_time_s, runs of %d and %d steps" % (a["steps"], b["steps"]))
+    return b["steps"], b["wall_time_s"], (
+        "whole run (summary.json wall_time_s over %d steps, start-up included: the "
+        "difference with the warm-up run was noise)" % b["steps"])
+
+
 def ours(args, dx, formulation, precision, work, snapshot):
     if snapshot is None:
         return None
@@ -218,17 +234,9 @@ def ours(args, dx, formulation, precision, work, snapshot):
                          neighbours_mean=neighbours, process_wall_s=wall))
     runs = runs[1:]  # the compile run
     a, b = runs[0]["summary"], runs[1]["summary"]
-    steps = b["steps"] - a["steps"]
-    wall = b["wall_time_s"] - a["wall_time_s"]
-    timing = ("(wall_B - wall_A)/(steps_B - steps_A) of summary.json wall_time_s, runs of "
-              "%d and %d steps" % (a["steps"], b["steps"]))
-    if steps <= 0 or wall <= 0.05 * b["wall_time_s"]:
-        # Too small a run for the difference to rise above the noise of the
-        # start-up inside wall_time_s (initial snapshot, first search).
+    steps, wall, timing = ours_timing(a, b)
+    if timing.startswith("whole run"):
         log("impact-sph: the difference of the two runs is noise; using the whole of run B")
-        steps, wall = b["steps"], b["wall_time_s"]
-        timing = ("whole run (summary.json wall_time_s over %d steps, start-up included: the "
-                  "difference with the warm-up run was noise)" % b["steps"])
     particles = b["particles"]
     return dict(
         code="impact-sph", variant="%s, %s" % (formulation.replace("_", " "), precision),
