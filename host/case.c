@@ -810,6 +810,14 @@ int case_has_viscosity(const struct sph_case *c)
     return 0;
 }
 
+int case_has_part_contact(const struct sph_case *c)
+{
+    for (int b = 1; b < c->body_count; ++b)
+        if (c->bodies[b].part != c->bodies[0].part)
+            return 1;
+    return 0;
+}
+
 double case_viscous_time_step(const struct sph_case *c, double h)
 {
     double dt = HUGE_VAL;
@@ -1204,6 +1212,11 @@ static int check_case(struct ctx *x, const struct frame *fr, void *base)
     struct sph_case *c = base;
     if (!given(fr, "name"))
         default_name(x->path, c->name, sizeof c->name);
+    if (case_has_part_contact(c) && c->numerics.total_lagrangian)
+        return fail(x, line_of(fr, "bodies"), "bodies",
+                    "bodies of different parts meet by contact, which needs formulation "
+                    "updated_lagrangian (the total Lagrangian form keeps the neighbours of t = 0, "
+                    "so separate bodies never meet)");
     for (int b = 0; b < c->body_count; ++b)
         if (c->bodies[b].grading.enabled &&
             (c->numerics.total_lagrangian || c->numerics.as_epsilon > 0))
@@ -1391,6 +1404,7 @@ static const struct field body_fields[] = {
     VECTOR("min", struct case_body, box.min, F_REQUIRED, 0, "m", NULL),
     VECTOR("max", struct case_body, box.max, F_REQUIRED, 0, "m", NULL),
     BOOL("fixed", struct case_body, fixed),
+    INT("part", struct case_body, part, 0, 0, SPH_PART_MASK, 0, NULL),
     VECTOR("velocity", struct case_body, velocity, 0, 0, "m/s", NULL),
     VECTOR("velocity_gradient", struct case_body, velocity_gradient, 0, 9, "1/s", NULL),
     MAP("grading", F_ENABLE, offsetof(struct case_body, grading),

@@ -153,7 +153,7 @@ static void put_particle(struct fill_context *f, const double x[3], int level, i
     f->s->mass[n] = m->density * pow(spacing, dim) * (axisymmetric ? x[0] : 1.0);
     f->s->material[n] = body->material;
     f->s->flags[n] = (body->fixed ? SPH_FLAG_FIXED : 0) | (level << SPH_LEVEL_SHIFT) |
-                     (reach << SPH_REACH_SHIFT);
+                     (reach << SPH_REACH_SHIFT) | (body->part << SPH_PART_SHIFT);
     f->body_of[n] = f->body;
     ++f->n;
 }
@@ -213,7 +213,8 @@ static int fill_bodies(const struct sph_case *c, struct sph_scene *s, int *body_
                     /* axisymmetric: the ring's mass per radian, rho0 r dx^2 */
                     s->mass[n] = m->density * pow(dx, dim) * (axisymmetric ? x[0] : 1.0);
                     s->material[n] = body->material;
-                    s->flags[n] = (body->fixed ? SPH_FLAG_FIXED : 0) | (1 << SPH_REACH_SHIFT);
+                    s->flags[n] = (body->fixed ? SPH_FLAG_FIXED : 0) | (1 << SPH_REACH_SHIFT) |
+                                  (body->part << SPH_PART_SHIFT);
                     body_of[n] = b;
                     ++n;
                 }

@@ -107,7 +107,11 @@ struct case_body {
     double inner_radius;  /* hollow cylinder (tube, ring), m, default 0 */
     double centre[3];     /* a point of the axis, m; default the box centre */
     int has_centre;
-    int fixed;          /* every particle of the body has zero velocity */
+    int fixed; /* every particle of the body has zero velocity */
+    /* 0-255, default 0: bodies of one part are one continuum where they
+     * touch (a clamp and its beam); bodies of different parts meet by
+     * contact only, push without pulling and can part (colliding rings) */
+    int part;
     double velocity[3]; /* initial velocity, m/s, default 0 */
     /* initial velocity gradient G, 1/s, row-major (dv_x/dx, dv_x/dy,
      * dv_x/dz, dv_y/dx, ...): a particle at x starts at velocity +
@@ -288,6 +292,9 @@ char *case_resolved_text(const struct sph_case *c, size_t *length);
 double case_material_sound_speed(const struct case_material *m);
 /* Whether some material has a physical viscosity (materials[].viscosity). */
 int case_has_viscosity(const struct sph_case *c);
+/* Whether two bodies are of different parts (bodies[].part): they then
+ * meet by contact (kernels/pass2.cl, SPH_PART_CONTACT). */
+int case_has_part_contact(const struct sph_case *c);
 /* The coordinate axis a wall's normal lies along (0-2), -1 if none. */
 int case_wall_axis(const struct case_wall *w);
 /* Bit a set when a held wall's normal lies along axis a. */

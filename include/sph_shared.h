@@ -84,11 +84,18 @@ enum sph_flag {
 #define SPH_TENSOR_AXIS_MAX 2.5
 #define SPH_REACH_SHIFT 12
 #define SPH_REACH_MASK 255
+/* Bits 20-27: the particle's part (bodies[].part). Bodies of one part are
+ * one continuum where they touch; particles of different parts meet by
+ * contact only (kernels/pass2.cl, SPH_PART_CONTACT). */
+#define SPH_PART_SHIFT 20
+#define SPH_PART_MASK 255
+#define SPH_PART_OF(flags) (((flags) >> SPH_PART_SHIFT) & SPH_PART_MASK)
 /* The flag bits a ghost (mirror image or MPI halo particle) keeps of its
- * source: what a neighbour reads of it (spacing level, search reach,
+ * source: what a neighbour reads of it (spacing level, search reach, part,
  * damage); it gets SPH_FLAG_GHOST besides. */
 #define SPH_GHOST_KEEP_FLAGS                                                                       \
-    ((SPH_LEVEL_MASK << SPH_LEVEL_SHIFT) | (SPH_REACH_MASK << SPH_REACH_SHIFT) | SPH_FLAG_DAMAGED)
+    ((SPH_LEVEL_MASK << SPH_LEVEL_SHIFT) | (SPH_REACH_MASK << SPH_REACH_SHIFT) |                   \
+     (SPH_PART_MASK << SPH_PART_SHIFT) | SPH_FLAG_DAMAGED)
 
 /* The rigid projectile (a sphere; kernels/projectile.cl): its state on the
  * device, one real per slot. Position and velocity are the leap-frog's

@@ -214,6 +214,22 @@ static inline void gather_vec(__global const vec *restrict f, const struct lane_
         out[a] = u[a].v;
 }
 
+#ifdef SPH_PART_CONTACT
+/* The lanes' parts (bodies[].part), as reals so that a neighbour's compares
+ * in one vector test: SAME_PART(parts, j) is the mask of the lanes of j's
+ * part. The passes keep a pair of different parts out of every continuum
+ * sum; pass 2 gives it the contact force instead. */
+static inline realv lane_parts(__global const int *restrict flags, const struct lane_block *b,
+                               int n)
+{
+    lanes_union u;
+    for (int l = 0; l < SPH_LANES; ++l)
+        u.s[l] = b->first + l < n ? (real)SPH_PART_OF(flags[b->first + l]) : (real)-1;
+    return u.v;
+}
+#define SAME_PART(parts, j) ((parts) == (real)SPH_PART_OF(flags[j]))
+#endif
+
 /* The lanes' positions; a lane that is not live is put LANE_FAR away, out
  * of every candidate's reach, so lane_pair needs no live mask. */
 #define LANE_FAR ((real)1e18)

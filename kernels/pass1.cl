@@ -24,6 +24,9 @@
  *
  * With SPH_SPHERE_WALL (projectile.boundary: integral) a particle near the
  * rigid sphere also gets the sphere's share of its sums (sphere_wall.cl).
+ * With SPH_PART_CONTACT (bodies of different bodies[].part) a particle sums
+ * over its own part only: each part is its own continuum, whose face
+ * towards another part is a free surface (pass 2 adds the contact).
  *
  * reads: pos, vel_half, rho, mass, material, flags, energy_rate (and with
  * SPH_SPHERE_WALL projectile_state, deviatoric_stress, pressure);
@@ -110,11 +113,18 @@ __kernel void pass1_velocity_gradient(
     realv metric_i[3][3], volume_factor_i;
     metric_lanes(smoothing_metric, &b, n, metric_i, &volume_factor_i);
 #endif
+#ifdef SPH_PART_CONTACT
+    const realv parts = lane_parts(flags, &b, n);
+#endif
     FOR_EACH_LANE_NEIGHBOUR(b, j)
     {
         realv xij[3], r2;
         LANE_PAIR_SUPPORT(b, j);
+#ifdef SPH_PART_CONTACT
+        const maskv near = lane_pair(xi, pos[j], support2, xij, &r2) & SAME_PART(parts, j);
+#else
         const maskv near = lane_pair(xi, pos[j], support2, xij, &r2);
+#endif
         if (!lanes_any(near))
             continue;
         LANE_PAIR_INV_H;

@@ -32,6 +32,11 @@
  * (pass1.cl, switch_alpha; Morris & Monaghan 1997), beta in proportion.
  * f_ij = W(r_ij) / W(dx): Monaghan (2000) artificial stress weight.
  * XSPH (Monaghan 1989): v^_i = v_i + eps sum_j m_j / rho_ij (v_j - v_i) W_ij.
+ * With SPH_PART_CONTACT a pair of different parts (bodies[].part) carries
+ * neither stress, artificial stress nor XSPH, only the viscosity and the
+ * contact pressure of part_contact below: the parts push on each other and
+ * can part, where one continuum would hold them together (the rubber rings
+ * of Gray, Monaghan & Swift 2001 weld and tear otherwise).
  *
  * reads: pos, vel, rho, mass, pressure, deviatoric_stress,
  *        artificial_stress, csph, sound_speed, velocity_gradient (limited),
@@ -386,6 +391,46 @@ static inline void pass2_artificial_stress(const struct pass2_lanes_i *I, realv 
 }
 #endif
 
+#ifdef SPH_PART_CONTACT
+/* The contact of two parts. For the lanes of another part than j's
+ * (`other`, within the support) the stress tractions are dropped and a
+ * contact pressure acts instead, as the SPH pressure term does,
+ *   dv_i/dt += m_j 2 p_c / (rho_i rho_j) (-grad W_ij),
+ *   p_c = K_ij max(1 - r / d, 0),  K_ij = (rho_i c_i^2 + rho_j c_j^2) / 2,
+ * with d the pair's lattice spacing (h dx / h0): the gap between the parts
+ * closes as the lattice compresses under the same pressure, so the face
+ * between them is as stiff as the material. The force is along x_ij and
+ * antisymmetric (momentum is kept); its work goes to and comes back from
+ * the internal energy, de_i = 1/2 m_j 2 p_c / (rho_i rho_j) v_ij . grad W,
+ * as the artificial stress' does, so the energy balance closes. It is added
+ * to `extra` as the viscosity's Pi is, with the viscosity's gradient (the
+ * mean of the two kernels' with a tensor smoothing length). The viscosity
+ * itself acts between parts only where they touch (pass 2 drops it for
+ * overlap 0), so that two parts a gap apart do not brake each other. */
+static inline realv part_overlap(realv r2, hreal h, __constant const struct sph_run_params *run)
+{
+    return fmax((realv)1 - sqrt(r2) / (h * run->av_eta_crit), (realv)0);
+}
+
+static inline void part_contact(const struct pass2_lanes_i *I, maskv other, realv overlap,
+                                real rho_j, real c_j, const realv av_grad[3], const realv vij[3],
+                                realv m_pair, realv t_i[3], realv t_j[3], realv extra[3], realv *de)
+{
+    const realv stiffness = (real)0.5 * (I->rho * I->c * I->c + rho_j * c_j * c_j);
+    const realv pi_c =
+        SPH_SELECT((realv)0, (real)2 * stiffness * overlap * I->inv_rho / rho_j, other);
+    realv power = (realv)0;
+#pragma unroll
+    for (int a = 0; a < SPH_DIM; ++a) {
+        t_i[a] = SPH_SELECT(t_i[a], (realv)0, other);
+        t_j[a] = SPH_SELECT(t_j[a], (realv)0, other);
+        extra[a] -= pi_c * av_grad[a];
+        power += av_grad[a] * vij[a];
+    }
+    *de += (real)0.5 * m_pair * pi_c * power;
+}
+#endif
+
 /* The pair's stress tractions t_i = (sigma_i / rho_i) . C_i^T g =
  * sigma_g . g and t_j = sigma_j . g_j (the 1 / rho_i of t_j and 1 / rho_j
  * of both are applied by the caller), sigma = S - p I. */
@@ -462,6 +507,9 @@ __kernel void pass2_momentum_energy(
 #endif
     realv acc[3] = {(realv)0, (realv)0, (realv)0}, xsph[3] = {(realv)0, (realv)0, (realv)0};
     realv de_viscous = (realv)0, de_stress = (realv)0; /* the two artificial heatings */
+#ifdef SPH_PART_CONTACT
+    const realv parts = lane_parts(flags, &b, n);
+#endif
     FOR_EACH_LANE_NEIGHBOUR(b, j)
     {
         realv xij[3], r2;
@@ -469,6 +517,9 @@ __kernel void pass2_momentum_energy(
         const maskv near = lane_pair(I.x, pos[j], support2, xij, &r2);
         if (!lanes_any(near))
             continue;
+#ifdef SPH_PART_CONTACT
+        const maskv same = SAME_PART(parts, j);
+#endif
         LANE_PAIR_INV_H;
         const realv q = sqrt(r2) * inv_h;
 #ifdef SPH_TENSOR_SMOOTHING
@@ -488,8 +539,17 @@ __kernel void pass2_momentum_energy(
         PAIR_MASSES(I, j);
         const real rho_j = rho[j], m_over_rho_j = m_j / rho_j;
         const realv inv_rho_mean = (real)2 / (I.rho + rho_j);
+#ifdef SPH_PART_CONTACT
+        const maskv other = near & !same;
+        const realv overlap = part_overlap(r2, h_pair, run);
+        const realv pi_ij =
+            SPH_SELECT(pass2_viscosity(&I, vx, vij, xij, q, r2, h_pair, inv_rho_mean, j,
+                                       sound_speed, velocity_gradient, av_alpha, run),
+                       (realv)0, other & (overlap <= (real)0));
+#else
         const realv pi_ij = pass2_viscosity(&I, vx, vij, xij, q, r2, h_pair, inv_rho_mean, j,
                                             sound_speed, velocity_gradient, av_alpha, run);
+#endif
         realv grad[3], g_j[3];
 #ifdef SPH_TENSOR_SMOOTHING
         /* i's traction takes i's weight, j's j's (C_j in pass2_gradients);
@@ -515,10 +575,17 @@ __kernel void pass2_momentum_energy(
 #pragma unroll
         for (int a = 0; a < SPH_DIM; ++a)
             extra[a] = -pi_ij * av_grad[a];
+#ifdef SPH_PART_CONTACT
+        part_contact(&I, other, overlap, rho_j, sound_speed[j], av_grad, vij, m_pair, t_i, t_j,
+                     extra, &de_stress);
+#endif
 #if defined(SPH_TENSOR_SMOOTHING) && defined(SPH_XSPH)
-        const realv w = tp.w; /* the mean of the two kernels' W */
+        realv w = tp.w; /* the mean of the two kernels' W */
 #elif defined(SPH_ARTIFICIAL_STRESS) || defined(SPH_XSPH)
-        const realv w = kernel_w_q(q, inv_h); /* W(r_ij) */
+        realv w = kernel_w_q(q, inv_h); /* W(r_ij) */
+#endif
+#if defined(SPH_PART_CONTACT) && (defined(SPH_ARTIFICIAL_STRESS) || defined(SPH_XSPH))
+        w = SPH_SELECT((realv)0, w, same); /* no artificial stress, no XSPH between parts */
 #endif
 #ifdef SPH_ARTIFICIAL_STRESS
         pass2_artificial_stress(&I, w, inv_h, grad, vij, m_pair, j, pos0, artificial_stress, run,
