@@ -14,6 +14,7 @@ initial kinetic energy (history.csv)."""
 import csv
 import glob
 import os
+import re
 import sys
 
 import h5py
@@ -22,7 +23,13 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
-DX = 1e-3  # m, the case's spacing
+
+
+def spacing(run):
+    """numerics.dx of the run (m), from the case.resolved.yaml it wrote"""
+    with open(os.path.join(run, "case.resolved.yaml")) as f:
+        numerics = f.read().split("\nnumerics:", 1)[1]
+    return float(re.search(r"^  dx: (\S+)$", numerics, re.M).group(1))
 
 
 def pieces(x, link):
@@ -39,14 +46,15 @@ def positions(path):
 
 
 def report(run):
+    dx = spacing(run)
     snaps = sorted(glob.glob(os.path.join(run, "snap_*.h5")))
     left = positions(snaps[0])[:, 0] < 0
     for link in (1.2, 1.5):
         cells = []
         for path in snaps[6::4] + [snaps[-1]]:
             x = positions(path)
-            cells.append("%s:%d+%d" % (path[-8:-3], pieces(x[left], link * DX),
-                                       pieces(x[~left], link * DX)))
+            cells.append("%s:%d+%d" % (path[-8:-3], pieces(x[left], link * dx),
+                                       pieces(x[~left], link * dx)))
         print("%s  link %.1f dx  pieces (left+right) by snapshot: %s" % (run, link, " ".join(cells)))
     with h5py.File(snaps[-1], "r") as f:
         v = np.array(f["velocity"])[:, :2]
