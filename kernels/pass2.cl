@@ -406,7 +406,16 @@ static inline void pass2_artificial_stress(const struct pass2_lanes_i *I, realv 
  * to `extra` as the viscosity's Pi is, with the viscosity's gradient (the
  * mean of the two kernels' with a tensor smoothing length). The viscosity
  * itself acts between parts only where they touch (pass 2 drops it for
- * overlap 0), so that two parts a gap apart do not brake each other. */
+ * overlap 0), so that two parts a gap apart do not brake each other.
+ * Its limits (docs/validation_contact.md): two lattices pressed face to
+ * face touch pair by pair, so the face is softer than the material (the
+ * pressure 2 d^(dim+1) |W'(d)| K times the overlap: 0.53 K in 2-D, 0.33 K
+ * in 3-D for Wendland C2 at h = 1.2 dx), and the kernel's gradient
+ * vanishes at r = 0, so a pair pushed closer than about d / 3 collapses:
+ * two steel spheres pressed at Hertz's 28 GPa (a tenth of K) lost their
+ * energy balance by 8% at 50 particles a radius. A face twice as stiff as
+ * the material kept them within 1% but cost two bars meeting at 1 m/s 2.3%
+ * (0.07% as built), so the softer face is kept. */
 static inline realv part_overlap(realv r2, hreal h, __constant const struct sph_run_params *run)
 {
     return fmax((realv)1 - sqrt(r2) / (h * run->av_eta_crit), (realv)0);
