@@ -393,41 +393,54 @@ static inline void pass2_artificial_stress(const struct pass2_lanes_i *I, realv 
 
 #ifdef SPH_PART_CONTACT
 /* The contact of two parts. For the lanes of another part than j's
- * (`other`, within the support) the stress tractions are dropped and a
- * contact pressure acts instead, as the SPH pressure term does,
+ * (`other`, within the support) the stress tractions are dropped and,
+ * where the pair is closer than d, the pair's lattice spacing (h dx / h0),
+ * a contact pressure acts instead, in the form of the SPH pressure term:
  *   dv_i/dt += m_j 2 p_c / (rho_i rho_j) (-grad W_ij),
- *   p_c = K_ij max(1 - r / d, 0),  K_ij = (rho_i c_i^2 + rho_j c_j^2) / 2,
- * with d the pair's lattice spacing (h dx / h0): the gap between the parts
- * closes as the lattice compresses under the same pressure, so the face
- * between them is as stiff as the material. The force is along x_ij and
- * antisymmetric (momentum is kept); its work goes to and comes back from
- * the internal energy, de_i = 1/2 m_j 2 p_c / (rho_i rho_j) v_ij . grad W,
- * as the artificial stress' does, so the energy balance closes. It is added
+ *   p_c = K_ij (1 - r / d) / (2 d^(dim+1) |W'(d)|),
+ *   K_ij = (rho_i c_i^2 + rho_j c_j^2) / 2.
+ * Two lattices pressed together face to face touch pair by pair, each
+ * particle the one opposite it, so the face carries the pressure
+ * 2 p_c d^(dim+1) |W'(d)| for the overlap 1 - r / d: the division makes
+ * that K times the overlap, a face as stiff as the material whatever the
+ * kernel and h / dx (without it 0.53 K in 2-D and 0.33 K in 3-D for
+ * Wendland C2 at h = 1.2 dx, and far less for wider kernels, whose
+ * gradient at d is small: the rings' Gaussian and quintic runs at h =
+ * 2 dx then pressed pairs within dx / 2). The force is antisymmetric
+ * (momentum is kept), and its work goes to and comes back from the
+ * internal energy, de_i = 1/2 m_j 2 p_c / (rho_i rho_j) v_ij . grad W, as
+ * the artificial stress' does, so the energy balance closes. It is added
  * to `extra` as the viscosity's Pi is, with the viscosity's gradient (the
  * mean of the two kernels' with a tensor smoothing length). The viscosity
  * itself acts between parts only where they touch (pass 2 drops it for
  * overlap 0), so that two parts a gap apart do not brake each other.
- * Its limits (docs/validation_contact.md): two lattices pressed face to
- * face touch pair by pair, so the face is softer than the material (the
- * pressure 2 d^(dim+1) |W'(d)| K times the overlap: 0.53 K in 2-D, 0.33 K
- * in 3-D for Wendland C2 at h = 1.2 dx), and the kernel's gradient
- * vanishes at r = 0, so a pair pushed closer than about d / 3 collapses:
- * two steel spheres pressed at Hertz's 28 GPa (a tenth of K) lost their
- * energy balance by 8% at 50 particles a radius. A face twice as stiff as
- * the material kept them within 1% but cost two bars meeting at 1 m/s 2.3%
- * (0.07% as built), so the softer face is kept. */
+ * Its limit (docs/validation_contact.md): the kernel's gradient vanishes
+ * at r = 0, so the pair force peaks near d / 3 and a pair pushed closer
+ * collapses; two elastic steel spheres pressed at Hertz's 28 GPa (a tenth
+ * of rho c^2) lose their energy balance in such events at 50 particles a
+ * radius. */
 static inline realv part_overlap(realv r2, hreal h, __constant const struct sph_run_params *run)
 {
     return fmax((realv)1 - sqrt(r2) / (h * run->av_eta_crit), (realv)0);
 }
 
-static inline void part_contact(const struct pass2_lanes_i *I, maskv other, realv overlap,
+static inline void part_contact(const struct pass2_lanes_i *I, maskv other, realv overlap, hreal h,
                                 real rho_j, real c_j, const realv av_grad[3], const realv vij[3],
-                                realv m_pair, realv t_i[3], realv t_j[3], realv extra[3], realv *de)
+                                realv m_pair, __constant const struct sph_run_params *run,
+                                realv t_i[3], realv t_j[3], realv extra[3], realv *de)
 {
+    /* 2 d^(dim+1) |W'(d)| = 2 d^(dim+2) |(dW/dr) / r| at d: a number of the
+     * kernel and dx / h alone */
+    const realv d = h * run->av_eta_crit;
+    realv d_power = d * d * d * d; /* d^(dim+2) */
+#if SPH_DIM == 3
+    d_power *= d;
+#endif
+    const realv face =
+        (real)-2 * kernel_dwdr_over_r_q((realv)run->av_eta_crit, (real)1 / h) * d_power;
     const realv stiffness = (real)0.5 * (I->rho * I->c * I->c + rho_j * c_j * c_j);
     const realv pi_c =
-        SPH_SELECT((realv)0, (real)2 * stiffness * overlap * I->inv_rho / rho_j, other);
+        SPH_SELECT((realv)0, (real)2 * stiffness * overlap * I->inv_rho / (rho_j * face), other);
     realv power = (realv)0;
 #pragma unroll
     for (int a = 0; a < SPH_DIM; ++a) {
@@ -585,8 +598,8 @@ __kernel void pass2_momentum_energy(
         for (int a = 0; a < SPH_DIM; ++a)
             extra[a] = -pi_ij * av_grad[a];
 #ifdef SPH_PART_CONTACT
-        part_contact(&I, other, overlap, rho_j, sound_speed[j], av_grad, vij, m_pair, t_i, t_j,
-                     extra, &de_stress);
+        part_contact(&I, other, overlap, h_pair, rho_j, sound_speed[j], av_grad, vij, m_pair, run,
+                     t_i, t_j, extra, &de_stress);
 #endif
 #if defined(SPH_TENSOR_SMOOTHING) && defined(SPH_XSPH)
         realv w = tp.w; /* the mean of the two kernels' W */
