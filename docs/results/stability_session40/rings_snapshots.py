@@ -43,7 +43,7 @@ def main():
         ax.set_xlabel("x (mm)")
         ax.set_title("t = %.2f ms, %d connected piece%s" % (time * 1e3, count,
                                                             "" if count == 1 else "s"))
-    fig.suptitle(run)
+    fig.suptitle(os.path.basename(run.rstrip("/")))
     fig.tight_layout()
     fig.savefig(out, dpi=70)
 
