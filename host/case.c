@@ -818,6 +818,30 @@ int case_has_part_contact(const struct sph_case *c)
     return 0;
 }
 
+/* A body's velocity as it starts (a fixed body is held at rest). */
+static double start_velocity(const struct case_body *b, int axis)
+{
+    return b->fixed ? 0.0 : b->velocity[axis];
+}
+
+void case_note_welding(const struct sph_case *c, FILE *out)
+{
+    for (int a = 0; a < c->body_count; ++a)
+        for (int b = a + 1; b < c->body_count; ++b) {
+            const struct case_body *p = &c->bodies[a], *q = &c->bodies[b];
+            int differ = 0;
+            for (int k = 0; k < 3; ++k)
+                differ |= start_velocity(p, k) != start_velocity(q, k);
+            if (p->part == q->part && differ)
+                fprintf(out,
+                        "sph: note: bodies '%s' and '%s' are one part (bodies[].part %d) and start "
+                        "at different velocities: where they meet they act as one continuum and "
+                        "weld; give them different parts to let them meet by contact and part "
+                        "again (docs/validation_contact.md)\n",
+                        p->name, q->name, p->part);
+        }
+}
+
 double case_viscous_time_step(const struct sph_case *c, double h)
 {
     double dt = HUGE_VAL;

@@ -230,6 +230,7 @@ static int command_check(int argc, char **argv)
         fprintf(stderr, "sph: %s\n", error);
         code = 1;
     } else {
+        case_note_welding(c, stderr);
         case_write_resolved(c, stdout);
         fprintf(stderr,
                 "sph: %s is valid (%d particles, %.3g GiB of device memory without "

@@ -792,6 +792,8 @@ static void say_what_runs(const struct run_options *opt, const struct run_resour
 {
     const struct sph_case *c = r->c;
     if (!opt->quiet)
+        case_note_welding(c, stderr);
+    if (!opt->quiet)
         fprintf(stderr,
                 "sph: %s: %d particles (%d-D), %s kernel, h = %.3g m, on %s%s; writing %s\n",
                 c->name, r->scene.count, c->dimension, case_kernel_name(c->numerics.kernel),

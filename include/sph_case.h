@@ -295,6 +295,9 @@ int case_has_viscosity(const struct sph_case *c);
 /* Whether two bodies are of different parts (bodies[].part): they then
  * meet by contact (kernels/pass2.cl, SPH_PART_CONTACT). */
 int case_has_part_contact(const struct sph_case *c);
+/* Prints a note for every two bodies of one part that start at different
+ * velocities: they weld where they meet, which is rarely what was meant. */
+void case_note_welding(const struct sph_case *c, FILE *out);
 /* The coordinate axis a wall's normal lies along (0-2), -1 if none. */
 int case_wall_axis(const struct case_wall *w);
 /* Bit a set when a held wall's normal lies along axis a. */
