@@ -120,6 +120,7 @@ static const struct host_column derived_table[DERIVED_COUNT] = {
     [DERIVED_STRESS] = {"stress", "Pa (XX, YY, ZZ, XY, YZ, XZ)", 6, 0, NULL},
     [DERIVED_VON_MISES] = {"von_mises_stress", "Pa", 1, 0, NULL},
     [DERIVED_SMOOTHING_LENGTH] = {"smoothing_length", "m", 1, 0, NULL},
+    [DERIVED_PART] = {"part", "bodies[].part", 1, 1, NULL},
 };
 
 /* Host components of an element: vectors padded to 3, symmetric tensors as
@@ -239,7 +240,8 @@ static int read_rows(struct solver *s, struct host_fields *o, int **row_of_slot)
 
 /* The full stress sigma = S - p I and its von Mises equivalent
  * sqrt(3/2 S:S) from the deviatoric stress; each particle's h (graded
- * lattices: a level-l particle's is 2^l times the fine one). */
+ * lattices: a level-l particle's is 2^l times the fine one) and part (its
+ * flag bits, so that ParaView can colour by it). */
 static int derive_columns(const struct solver *s, struct host_fields *o)
 {
     for (int d = 0; d < DERIVED_COUNT; ++d) {
@@ -255,6 +257,7 @@ static int derive_columns(const struct solver *s, struct host_fields *o)
     double *stress = o->column[FIELD_COUNT + DERIVED_STRESS].data;
     double *von_mises = o->column[FIELD_COUNT + DERIVED_VON_MISES].data;
     double *h = o->column[FIELD_COUNT + DERIVED_SMOOTHING_LENGTH].data;
+    int *part = o->column[FIELD_COUNT + DERIVED_PART].data;
     for (int q = 0; q < o->n; ++q) {
         const double *S = &dev[6 * q]; /* XX, YY, ZZ, XY, YZ, XZ */
         for (int a = 0; a < 6; ++a)
@@ -262,6 +265,7 @@ static int derive_columns(const struct solver *s, struct host_fields *o)
         von_mises[q] = sqrt(1.5 * (S[0] * S[0] + S[1] * S[1] + S[2] * S[2] +
                                    2.0 * (S[3] * S[3] + S[5] * S[5] + S[4] * S[4])));
         h[q] = s->run.h * (double)(1 << SPH_LEVEL_OF(flags[q]));
+        part[q] = SPH_PART_OF(flags[q]);
     }
     return 0;
 }

@@ -346,7 +346,13 @@ int solver_advance(struct solver *s, double dt, double dt_prev, const double loa
  * collectively (parallel HDF5): `distributed`, this rank's particles only,
  * rows in ascending scene index `id[row]`; whatever is measured on them
  * is reduced over the ranks. */
-enum derived_output { DERIVED_STRESS, DERIVED_VON_MISES, DERIVED_SMOOTHING_LENGTH, DERIVED_COUNT };
+enum derived_output {
+    DERIVED_STRESS,
+    DERIVED_VON_MISES,
+    DERIVED_SMOOTHING_LENGTH,
+    DERIVED_PART,
+    DERIVED_COUNT
+};
 #define HOST_COLUMNS                                                                               \
     (FIELD_COUNT + DERIVED_COUNT) /* column f: field f; FIELD_COUNT + d: derived d */
 struct host_column {
