@@ -791,14 +791,13 @@ static int open_run(const struct run_options *opt, struct run_resources *r, char
 static void say_what_runs(const struct run_options *opt, const struct run_resources *r)
 {
     const struct sph_case *c = r->c;
-    if (!opt->quiet)
-        case_note_welding(c, stderr);
-    if (!opt->quiet)
-        fprintf(stderr,
-                "sph: %s: %d particles (%d-D), %s kernel, h = %.3g m, on %s%s; writing %s\n",
-                c->name, r->scene.count, c->dimension, case_kernel_name(c->numerics.kernel),
-                (double)r->s.run.h, r->dev.name, r->dev.from_cache ? " (cached program)" : "",
-                r->folder);
+    if (opt->quiet)
+        return;
+    case_note_welding(c, stderr);
+    fprintf(stderr, "sph: %s: %d particles (%d-D), %s kernel, h = %.3g m, on %s%s; writing %s\n",
+            c->name, r->scene.count, c->dimension, case_kernel_name(c->numerics.kernel),
+            (double)r->s.run.h, r->dev.name, r->dev.from_cache ? " (cached program)" : "",
+            r->folder);
 }
 
 /* The time loop, the profile, summary.json and the summary line. Returns

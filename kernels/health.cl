@@ -177,6 +177,12 @@ __kernel void health_pairs(__global const vec *restrict pos, __global const real
     for (int l = 0; l < SPH_LANES; ++l)
         index.s[l] = b.first + l;
     realv nearest2 = (realv)INFINITY, count = (realv)0, nearest[3];
+#ifdef SPH_PART_CONTACT
+    /* the integrity measure counts the neighbours a particle's own
+     * continuum sums over (pass1.cl): two parts that come apart lose
+     * nothing; the nearest neighbour (clumping) is of any part */
+    const realv parts = lane_parts(flags, &b, n);
+#endif
 #pragma unroll
     for (int a = 0; a < 3; ++a)
         nearest[a] = (realv)0;
@@ -199,7 +205,11 @@ __kernel void health_pairs(__global const vec *restrict pos, __global const real
             const maskv within = (r2 < counted2) & (index.v != (maskv)j);
             if (!lanes_any(within))
                 continue;
+#ifdef SPH_PART_CONTACT
+            count += SPH_SELECT((realv)0, (realv)1, within & SAME_PART(parts, j));
+#else
             count += SPH_SELECT((realv)0, (realv)1, within);
+#endif
             const maskv closer = within & (r2 < nearest2);
             nearest2 = SPH_SELECT(nearest2, r2, closer);
 #pragma unroll

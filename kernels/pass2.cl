@@ -419,25 +419,31 @@ static inline void pass2_artificial_stress(const struct pass2_lanes_i *I, realv 
  * collapses; two elastic steel spheres pressed at Hertz's 28 GPa (a tenth
  * of rho c^2) lose their energy balance in such events at 50 particles a
  * radius. */
+/* 2 d^(dim+1) |W'(d)| = 2 d^(dim+2) |(dW/dr) / r| at d = dx h / h0: a
+ * number of the kernel and dx / h alone, the same for every pair (graded
+ * or not), so each work-item takes it once */
+static inline realv part_contact_face(__constant const struct sph_run_params *run)
+{
+    const real d = run->h * run->av_eta_crit;
+    real d_power = d * d * d * d; /* d^(dim+2) */
+#if SPH_DIM == 3
+    d_power *= d;
+#endif
+    return (real)-2 * d_power *
+           kernel_dwdr_over_r_q((realv)run->av_eta_crit, (hreal)((real)1 / run->h));
+}
+
+/* overlap 1 - r / d of a pair, d = h dx / h0 its lattice spacing */
 static inline realv part_overlap(realv r2, hreal h, __constant const struct sph_run_params *run)
 {
     return fmax((realv)1 - sqrt(r2) / (h * run->av_eta_crit), (realv)0);
 }
 
-static inline void part_contact(const struct pass2_lanes_i *I, maskv other, realv overlap, hreal h,
-                                real rho_j, real c_j, const realv av_grad[3], const realv vij[3],
-                                realv m_pair, __constant const struct sph_run_params *run,
-                                realv t_i[3], realv t_j[3], realv extra[3], realv *de)
+static inline void part_contact(const struct pass2_lanes_i *I, maskv other, realv overlap,
+                                realv face, real rho_j, real c_j, const realv av_grad[3],
+                                const realv vij[3], realv m_pair, realv t_i[3], realv t_j[3],
+                                realv extra[3], realv *de)
 {
-    /* 2 d^(dim+1) |W'(d)| = 2 d^(dim+2) |(dW/dr) / r| at d: a number of the
-     * kernel and dx / h alone */
-    const realv d = h * run->av_eta_crit;
-    realv d_power = d * d * d * d; /* d^(dim+2) */
-#if SPH_DIM == 3
-    d_power *= d;
-#endif
-    const realv face =
-        (real)-2 * kernel_dwdr_over_r_q((realv)run->av_eta_crit, (real)1 / h) * d_power;
     const realv stiffness = (real)0.5 * (I->rho * I->c * I->c + rho_j * c_j * c_j);
     const realv pi_c =
         SPH_SELECT((realv)0, (real)2 * stiffness * overlap * I->inv_rho / (rho_j * face), other);
@@ -530,7 +536,7 @@ __kernel void pass2_momentum_energy(
     realv acc[3] = {(realv)0, (realv)0, (realv)0}, xsph[3] = {(realv)0, (realv)0, (realv)0};
     realv de_viscous = (realv)0, de_stress = (realv)0; /* the two artificial heatings */
 #ifdef SPH_PART_CONTACT
-    const realv parts = lane_parts(flags, &b, n);
+    const realv parts = lane_parts(flags, &b, n), contact_face = part_contact_face(run);
 #endif
     FOR_EACH_LANE_NEIGHBOUR(b, j)
     {
@@ -598,7 +604,7 @@ __kernel void pass2_momentum_energy(
         for (int a = 0; a < SPH_DIM; ++a)
             extra[a] = -pi_ij * av_grad[a];
 #ifdef SPH_PART_CONTACT
-        part_contact(&I, other, overlap, h_pair, rho_j, sound_speed[j], av_grad, vij, m_pair, run,
+        part_contact(&I, other, overlap, contact_face, rho_j, sound_speed[j], av_grad, vij, m_pair,
                      t_i, t_j, extra, &de_stress);
 #endif
 #if defined(SPH_TENSOR_SMOOTHING) && defined(SPH_XSPH)

@@ -10,23 +10,13 @@ import sys
 import h5py
 import matplotlib
 import numpy as np
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
-from scipy.spatial import cKDTree
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..",
                                 "taylor_session39"))
-from rings_pieces import spacing  # noqa: E402
+from rings_pieces import components, spacing  # noqa: E402
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
-
-
-def labels(x, link):
-    pairs = cKDTree(x).query_pairs(link, output_type="ndarray")
-    n = len(x)
-    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
-    return connected_components(graph, directed=False)
 
 
 def main():
@@ -37,7 +27,7 @@ def main():
     for ax, path in zip(axes.flat, [snaps[i] for i in (6, 10, 14, 18, 22, len(snaps) - 1)]):
         with h5py.File(path, "r") as f:
             x, time = np.array(f["position"])[:, :2], float(f.attrs["time_s"][0])
-        count, label = labels(x, 1.5 * dx)
+        count, label = components(x, 1.5 * dx)
         ax.scatter(x[:, 0] * 1e3, x[:, 1] * 1e3, c=label % 10, cmap="tab10", s=1)
         ax.set_aspect("equal")
         ax.set_xlabel("x (mm)")

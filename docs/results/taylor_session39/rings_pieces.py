@@ -32,11 +32,18 @@ def spacing(run):
     return float(re.search(r"^  dx: (\S+)$", numerics, re.M).group(1))
 
 
-def pieces(x, link):
+def components(x, link):
+    """the connected components of points x linked within `link`: their
+    count and each point's label"""
     pairs = cKDTree(x).query_pairs(link, output_type="ndarray")
     n = len(x)
     graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
-    _, label = connected_components(graph, directed=False)
+    return connected_components(graph, directed=False)
+
+
+def pieces(x, link):
+    """the components of at least 10 points"""
+    _, label = components(x, link)
     return int(np.sum(np.bincount(label) >= 10))
 
 
