@@ -1236,11 +1236,6 @@ static int check_case(struct ctx *x, const struct frame *fr, void *base)
     struct sph_case *c = base;
     if (!given(fr, "name"))
         default_name(x->path, c->name, sizeof c->name);
-    if (case_has_part_contact(c) && c->numerics.total_lagrangian)
-        return fail(x, line_of(fr, "bodies"), "bodies",
-                    "bodies of different parts meet by contact, which needs formulation "
-                    "updated_lagrangian (the total Lagrangian form keeps the neighbours of t = 0, "
-                    "so separate bodies never meet)");
     for (int b = 0; b < c->body_count; ++b)
         if (c->bodies[b].grading.enabled &&
             (c->numerics.total_lagrangian || c->numerics.as_epsilon > 0))

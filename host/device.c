@@ -33,6 +33,7 @@ static const char *const source_files[] = {
     "kernels/pass1.cl",
     "kernels/pass2.cl",
     "kernels/total_lagrangian.cl",
+    "kernels/contact_current.cl",
     "kernels/ghost.cl",
     "kernels/halo.cl",
     "kernels/integrate.cl",

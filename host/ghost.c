@@ -172,7 +172,7 @@ void solver_compact(struct solver *s)
     struct ghosts *g = &s->ghosts;
     SET_ARGS(s, g->id_keys, INT("n", s->n));
     solver_launch(s, g->id_keys, (size_t)s->n, 0);
-    solver_sort_keys(s, s->n); /* ids are below n (kernels/ghost.cl) */
+    solver_sort_keys(s, s->sort_keys, s->n); /* ids are below n (kernels/ghost.cl) */
     solver_gather_persistent(s);
 }
 

@@ -88,6 +88,9 @@ static int solver_value(const struct solver *s, const char *name, struct arg *ou
         MEM("sort_keys", s->sort_keys),
         MEM("cell_start", s->cell_start),
         MEM("cell_end", s->cell_end),
+        MEM("contact_keys", s->contact_keys),
+        MEM("contact_cell_start", s->contact_cell_start),
+        MEM("contact_cell_end", s->contact_cell_end),
         MEM("cell_level", s->cell_level),
         MEM("lane_list_range", s->lane_list_range),
         MEM("lane_list", s->lane_list),
@@ -255,7 +258,7 @@ void solver_exclusive_scan(struct solver *s, cl_mem counts, int count, cl_mem bl
     solver_launch(s, s->k.bucket_block_scan, (size_t)blocks, 0);
 }
 
-void solver_sort_keys(struct solver *s, int buckets)
+void solver_sort_keys(struct solver *s, cl_mem keys, int buckets)
 {
     if (buckets > s->sort_bucket_capacity) {
         solver_release_buffer(&s->sort_buckets);
@@ -269,15 +272,15 @@ void solver_sort_keys(struct solver *s, int buckets)
     /* the gather spare (8 B or more per slot) is free until the gathers */
     SET_ARGS(s, s->k.fill_int, MEM("a", s->sort_buckets), INT("value", zero), INT("n", buckets));
     solver_launch(s, s->k.fill_int, (size_t)buckets, 0);
-    SET_ARGS(s, s->k.bucket_count, MEM("keys", s->sort_keys), MEM("bucket", s->sort_buckets),
+    SET_ARGS(s, s->k.bucket_count, MEM("keys", keys), MEM("bucket", s->sort_buckets),
              INT("n", s->n));
     solver_launch(s, s->k.bucket_count, (size_t)s->n, 0);
     solver_exclusive_scan(s, s->sort_buckets, buckets, s->sort_block_totals);
-    SET_ARGS(s, s->k.bucket_scatter, MEM("keys", s->sort_keys), MEM("bucket", s->sort_buckets),
+    SET_ARGS(s, s->k.bucket_scatter, MEM("keys", keys), MEM("bucket", s->sort_buckets),
              MEM("scattered", s->gather_spare), INT("n", s->n));
     solver_launch(s, s->k.bucket_scatter, (size_t)s->n, 0);
     SET_ARGS(s, s->k.bucket_order, MEM("scattered", s->gather_spare),
-             MEM("bucket", s->sort_buckets), MEM("keys", s->sort_keys), INT("buckets", buckets));
+             MEM("bucket", s->sort_buckets), MEM("keys", keys), INT("buckets", buckets));
     solver_launch(s, s->k.bucket_order, (size_t)buckets, 0);
 }
 

@@ -756,6 +756,13 @@ static int open_run(const struct run_options *opt, struct run_resources *r, char
         scene_estimate(c, &points, error, size))
         return 1;
     points /= dist_size(); /* each rank holds its share */
+    /* the ranks' halos follow the reference positions in this form: a part
+     * that comes near another over a rank's boundary would not be seen */
+    if (dist_size() > 1 && c->numerics.total_lagrangian && case_has_part_contact(c))
+        return snprintf(error, size,
+                        "%s: bodies of different parts (bodies[].part) in the total Lagrangian "
+                        "form run on one process (their contact is not carried between ranks)",
+                        opt->case_path) > 0;
     if (device_open(opt->device, opt->profile, &r->dev, error, size))
         return 2;
     /* before the scene is built: a case the device cannot hold is refused

@@ -133,6 +133,8 @@ struct kernels {
     cl_kernel neighbour_reach, cell_max_level, coarser_seed, coarser_spread,
         apply_reach;           /* graded */
     cl_kernel lane_list_build; /* the lane passes' candidate lists */
+    cl_kernel contact_cell_keys, contact_cell_ranges,
+        tl_part_contact; /* total Lagrangian contact between parts */
 };
 
 /* The rigid projectile (host/ballistics.c, kernels/projectile.cl). */
@@ -194,6 +196,7 @@ struct solver {
     struct ghosts ghosts;
     struct domain domain;        /* MPI: this rank's box and halo (host/domain.c) */
     int total_lagrangian;        /* numerics.formulation; the grid is then sorted once */
+    int part_contact;            /* bodies of different parts (bodies[].part) meet by contact */
     int graded;                  /* some body has a graded lattice (SPH_GRADED) */
     int coarsest_level;          /* of the graded bodies (solver_case_coarsest_level) */
     int lanes;                   /* particles per work-item of passes 1 and 2 (solver_lanes) */
@@ -210,6 +213,9 @@ struct solver {
     cl_mem sort_keys, cell_start, cell_end, partials, bounds_partials, materials, run_params;
     cl_mem cell_level;                      /* graded lattices: the coarsest level in each cell */
     cl_mem sort_buckets, sort_block_totals; /* the sort's counts (solver_sort_keys) */
+    /* the total Lagrangian form's contact search on current positions, on
+     * the reference grid's cells (kernels/contact_current.cl) */
+    cl_mem contact_keys, contact_cell_start, contact_cell_end;
     int sort_bucket_capacity;
     /* the lane passes' candidates: block b's are lane_list[range[2 b] ..
      * range[2 b + 1]) (solver_lane_lists_build); claim: the build's counters */
@@ -446,9 +452,10 @@ struct kernel_slot {
 void solver_kernels(struct solver *s, const struct kernel_slot *slots, int count, int make);
 /* Releases a buffer (if any) and clears its handle. */
 void solver_release_buffer(cl_mem *m);
-/* Sorts sort_keys (n of them) by their high half, every one below
- * `buckets`, then the slot (kernels/grid.cl, counting sort). */
-void solver_sort_keys(struct solver *s, int buckets);
+/* Sorts `keys` (n of them: sort_keys, or the contact search's) by their
+ * high half, every one below `buckets`, then the slot (kernels/grid.cl,
+ * counting sort). */
+void solver_sort_keys(struct solver *s, cl_mem keys, int buckets);
 /* counts[0 .. count) to their exclusive prefix sum, in blocks of
  * SPH_SCAN_BLOCK (kernels/grid.cl); block_totals holds count /
  * SPH_SCAN_BLOCK + 1 ints. */

@@ -21,6 +21,7 @@ void solver_configure(struct solver *s, const struct sph_case *c)
     s->dim = c->dimension;
     s->double_precision = c->numerics.double_precision;
     s->total_lagrangian = c->numerics.total_lagrangian;
+    s->part_contact = case_has_part_contact(c);
     s->lanes = solver_lanes(c);
     s->lane_lists = solver_uses_lane_lists(c);
     s->csph = c->numerics.csph;
@@ -485,6 +486,8 @@ int solver_create_buffers(struct solver *s, const struct sph_case *c, const stru
         s->field[f] = solver_create_buffer(s, field_bytes(s, (enum field)f));
     s->gather_spare = solver_create_buffer(s, solver_spare_element(s) * (size_t)s->capacity);
     s->sort_keys = solver_create_buffer(s, sizeof(cl_ulong) * (size_t)s->capacity);
+    if (s->total_lagrangian && s->part_contact)
+        s->contact_keys = solver_create_buffer(s, sizeof(cl_ulong) * (size_t)s->capacity);
     s->partials =
         solver_create_buffer(s, s->element_size[ELEM_REAL] * SPH_RED_SLOTS * s->reduce_groups);
     s->bounds_partials = solver_create_buffer(s, s->element_size[ELEM_REAL] * 6 * s->reduce_groups);
@@ -540,6 +543,9 @@ void solver_release_buffers(struct solver *s)
         solver_release_buffer(&s->field[f]);
     solver_release_buffer(&s->gather_spare);
     solver_release_buffer(&s->sort_keys);
+    solver_release_buffer(&s->contact_keys);
+    solver_release_buffer(&s->contact_cell_start);
+    solver_release_buffer(&s->contact_cell_end);
     solver_release_buffer(&s->cell_start);
     solver_release_buffer(&s->cell_level);
     solver_release_buffer(&s->sort_buckets);

@@ -18,6 +18,7 @@ void solver_release_buffers(struct solver *s);
 static void step_kernels(struct solver *s, int make)
 {
     struct kernels *k = &s->k;
+    const int tl_contact = s->total_lagrangian && s->part_contact;
     const struct kernel_slot list[] = {
         {&k->cell_keys, "grid_cell_keys", 0},
         {&k->bucket_count, "grid_bucket_count", 0},
@@ -48,6 +49,9 @@ static void step_kernels(struct solver *s, int make)
         {&k->coarser_spread, s->graded ? "grid_coarser_spread" : NULL, 0},
         {&k->apply_reach, s->graded ? "grid_apply_reach" : NULL, 0},
         {&k->lane_list_build, s->lane_lists ? "lane_list_build" : NULL, 0},
+        {&k->contact_cell_keys, tl_contact ? "contact_cell_keys" : NULL, 0},
+        {&k->contact_cell_ranges, tl_contact ? "contact_cell_ranges" : NULL, 0},
+        {&k->tl_part_contact, tl_contact ? "tl_part_contact" : NULL, 0},
     };
     solver_kernels(s, list, (int)(sizeof list / sizeof list[0]), make);
 }
@@ -212,11 +216,15 @@ static int layout_grid(struct solver *s, char *error, size_t error_size)
 
 void solver_make_cell_buffers(struct solver *s, size_t bytes)
 {
-    cl_mem *cells[] = {&s->cell_start, &s->cell_end, &s->cell_level, &s->cell_coarser[0],
-                       &s->cell_coarser[1]};
-    for (int c = 0; c < 5; ++c) {
+    cl_mem *cells[] = {&s->cell_start,      &s->cell_end,        &s->cell_level,
+                       &s->cell_coarser[0], &s->cell_coarser[1], &s->contact_cell_start,
+                       &s->contact_cell_end};
+    const int tl_contact = s->total_lagrangian && s->part_contact;
+    for (int c = 0; c < 7; ++c) {
         solver_release_buffer(cells[c]);
-        if (c < 2 || s->graded) /* the level buffers: graded lattices only */
+        /* the level buffers: graded lattices only; the contact search's:
+         * the total Lagrangian form with parts only */
+        if (c < 2 || (c < 5 && s->graded) || (c >= 5 && tl_contact))
             *cells[c] = solver_create_buffer(s, bytes);
     }
 }
@@ -228,7 +236,7 @@ static void sort_keys(struct solver *s)
     SET_ARGS(s, s->k.cell_keys, INT("n", s->n), real4_value(s, &origin, "origin", s->grid.origin),
              real_value(s, &inv_cell, "inv_cell_size", 1.0 / s->grid.cell_size));
     solver_launch(s, s->k.cell_keys, (size_t)s->n, 0);
-    solver_sort_keys(s, s->grid.cell_count);
+    solver_sort_keys(s, s->sort_keys, s->grid.cell_count);
 }
 
 static void cell_ranges(struct solver *s)
@@ -414,6 +422,33 @@ static void tl_momentum(struct solver *s)
     solver_launch(s, s->k.tl_momentum, pass_items(s), 0);
 }
 
+/* The contact of parts in the total Lagrangian form (kernels/
+ * contact_current.cl): a cell list of the current positions, sorted at
+ * every step on the reference grid's cells (particles outside its box sit
+ * in its border cells), then the contact pass over it, which adds to what
+ * tl_momentum wrote. */
+static void tl_part_contact(struct solver *s)
+{
+    struct real4_arg a_origin;
+    struct real_arg a_inv_cell;
+    const cl_int minus_one = -1, cells = s->grid.cell_count;
+    SET_ARGS(s, s->k.contact_cell_keys, INT("n", s->n),
+             real4_value(s, &a_origin, "origin", s->grid.origin),
+             real_value(s, &a_inv_cell, "inv_cell_size", 1.0 / s->grid.cell_size));
+    solver_launch(s, s->k.contact_cell_keys, (size_t)s->n, 0);
+    solver_sort_keys(s, s->contact_keys, cells);
+    cl_mem targets[2] = {s->contact_cell_start, s->contact_cell_end};
+    for (int t = 0; t < 2; ++t) {
+        SET_ARGS(s, s->k.fill_int, MEM("a", targets[t]), INT("value", minus_one), INT("n", cells));
+        solver_launch(s, s->k.fill_int, (size_t)cells, 0);
+    }
+    SET_ARGS(s, s->k.contact_cell_ranges, INT("n", s->n));
+    solver_launch(s, s->k.contact_cell_ranges, (size_t)s->n, 0);
+    SET_ARGS(s, s->k.tl_part_contact, real4_value(s, &a_origin, "origin", s->grid.origin),
+             real_value(s, &a_inv_cell, "inv_cell_size", 1.0 / s->grid.cell_size), INT("n", s->n));
+    solver_launch(s, s->k.tl_part_contact, pass_items(s), 0);
+}
+
 /* Pass 1 and the stress-derived fields of the updated or total form. */
 static void deformation_and_material(struct solver *s, double dt)
 {
@@ -438,9 +473,11 @@ void solver_step(struct solver *s, double dt, double dt_prev, const double load[
     struct real_arg a_dt, a_prev, a_dx;
     struct real4_arg a_load;
     solver_ghosts_refresh(s, NULL, 0); /* the state the previous step left */
-    if (s->total_lagrangian)
+    if (s->total_lagrangian) {
         tl_momentum(s);
-    else
+        if (s->part_contact)
+            tl_part_contact(s);
+    } else
         pass2(s);
     if (s->projectile.enabled)
         solver_projectile_contact(s, dt, dt_prev); /* adds to the accelerations */

@@ -7,15 +7,9 @@
  * place keys within a bucket, which it then orders: grid_bucket_order).
  */
 
-/* reads pos; writes sort_keys. */
-__kernel void grid_cell_keys(__global const vec *restrict pos, __global ulong *restrict sort_keys,
-                             const int n, const real4 origin, const real inv_cell_size,
-                             const int4 grid_dims)
+/* The cell of a position (clamped to the grid), the home of every grid. */
+static inline uint cell_of_position(vec p, real4 origin, real inv_cell_size, int4 grid_dims)
 {
-    const int i = get_global_id(0);
-    if (i >= n)
-        return;
-    const vec p = pos[i];
     int cx = (int)floor((p.x - origin.x) * inv_cell_size);
     int cy = (int)floor((p.y - origin.y) * inv_cell_size);
 #if SPH_DIM == 3
@@ -24,11 +18,25 @@ __kernel void grid_cell_keys(__global const vec *restrict pos, __global ulong *r
     int cz = 0;
 #endif
     /* the host sizes the grid to contain every particle; clamping only guards
-     * against rounding at the upper faces */
+     * against rounding at the upper faces (and, for the total Lagrangian
+     * form's contact search on current positions, holds particles that have
+     * left the reference box in its border cells: clamping never moves two
+     * cells further apart, so no pair within the reach is lost) */
     cx = clamp(cx, 0, grid_dims.x - 1);
     cy = clamp(cy, 0, grid_dims.y - 1);
     cz = clamp(cz, 0, grid_dims.z - 1);
-    const uint cell = (uint)((cz * grid_dims.y + cy) * grid_dims.x + cx);
+    return (uint)((cz * grid_dims.y + cy) * grid_dims.x + cx);
+}
+
+/* reads pos; writes sort_keys. */
+__kernel void grid_cell_keys(__global const vec *restrict pos, __global ulong *restrict sort_keys,
+                             const int n, const real4 origin, const real inv_cell_size,
+                             const int4 grid_dims)
+{
+    const int i = get_global_id(0);
+    if (i >= n)
+        return;
+    const uint cell = cell_of_position(pos[i], origin, inv_cell_size, grid_dims);
     sort_keys[i] = ((ulong)cell << 32) | (ulong)(uint)i;
 }
 
@@ -159,19 +167,26 @@ __kernel void grid_fill_int(__global int *restrict a, const int value, const int
         a[i] = value;
 }
 
+/* Marks where key i's cell starts and ends in the sorted keys. */
+static inline void mark_cell_range(__global const ulong *restrict keys,
+                                   __global int *restrict start, __global int *restrict end,
+                                   const int i, const int n)
+{
+    const int cell = (int)(keys[i] >> 32);
+    if (i == 0 || (int)(keys[i - 1] >> 32) != cell)
+        start[cell] = i;
+    if (i == n - 1 || (int)(keys[i + 1] >> 32) != cell)
+        end[cell] = i + 1;
+}
+
 /* reads sort_keys (sorted); writes cell_start, cell_end (cleared to -1). */
 __kernel void grid_cell_ranges(__global const ulong *restrict sort_keys,
                                __global int *restrict cell_start, __global int *restrict cell_end,
                                const int n)
 {
     const int i = get_global_id(0);
-    if (i >= n)
-        return;
-    const int cell = (int)(sort_keys[i] >> 32);
-    if (i == 0 || (int)(sort_keys[i - 1] >> 32) != cell)
-        cell_start[cell] = i;
-    if (i == n - 1 || (int)(sort_keys[i + 1] >> 32) != cell)
-        cell_end[cell] = i + 1;
+    if (i < n)
+        mark_cell_range(sort_keys, cell_start, cell_end, i, n);
 }
 
 /* Gathers one field into sorted order: out[i] = in[slot of sorted key i].

@@ -228,6 +228,9 @@ static inline realv lane_parts(__global const int *restrict flags, const struct 
     return u.v;
 }
 #define SAME_PART(parts, j) ((parts) == (real)SPH_PART_OF(flags[j]))
+#define OWN_PART(parts, j) SAME_PART(parts, j)
+#else
+#define OWN_PART(parts, j) ((maskv)(-1)) /* every lane: one continuum */
 #endif
 
 /* The lanes' positions; a lane that is not live is put LANE_FAR away, out

@@ -439,14 +439,23 @@ static inline realv part_overlap(realv r2, hreal h, __constant const struct sph_
     return fmax((realv)1 - sqrt(r2) / (h * run->av_eta_crit), (realv)0);
 }
 
+/* The contact's pair term 2 p_c / (rho_i rho_j) for the overlap 1 - r / d
+ * (zero apart) and `face`, part_contact_face. Shared with the total
+ * Lagrangian form's contact (kernels/contact_current.cl). */
+static inline realv part_contact_term(realv rho_i, realv c_i, realv inv_rho_i, real rho_j, real c_j,
+                                      realv overlap, realv face)
+{
+    const realv stiffness = (real)0.5 * (rho_i * c_i * c_i + rho_j * c_j * c_j);
+    return (real)2 * stiffness * overlap * inv_rho_i / (rho_j * face);
+}
+
 static inline void part_contact(const struct pass2_lanes_i *I, maskv other, realv overlap,
                                 realv face, real rho_j, real c_j, const realv av_grad[3],
                                 const realv vij[3], realv m_pair, realv t_i[3], realv t_j[3],
                                 realv extra[3], realv *de)
 {
-    const realv stiffness = (real)0.5 * (I->rho * I->c * I->c + rho_j * c_j * c_j);
-    const realv pi_c =
-        SPH_SELECT((realv)0, (real)2 * stiffness * overlap * I->inv_rho / (rho_j * face), other);
+    const realv pi_c = SPH_SELECT(
+        (realv)0, part_contact_term(I->rho, I->c, I->inv_rho, rho_j, c_j, overlap, face), other);
     realv power = (realv)0;
 #pragma unroll
     for (int a = 0; a < SPH_DIM; ++a) {

@@ -7,6 +7,10 @@
  * Because neighbours and kernel gradients never change, the method has no
  * tensile instability (Belytschko et al. 2000) and needs no artificial
  * stress; the price is that it cannot follow fracture or mixing.
+ * With SPH_PART_CONTACT (bodies of different bodies[].part) a particle's
+ * reference neighbours are of its own part only, each part its own
+ * continuum; the parts meet through contact_current.cl's contact, searched
+ * on the current positions.
  *
  * The neighbour grid is built once on the reference positions (the host
  * never re-sorts in this formulation) and every pair test uses them.
@@ -42,9 +46,10 @@ static inline real tl_reference_volume(__global const real *restrict mass,
 /* C_i from the reference lattice; run once, before the first step, one
  * particle per work-item (ghosts too, so that no slot of the field is left
  * unset; a ghost's C is reflected from its owner's at every refresh).
- * reads: pos0, mass, material; writes: csph (C_i). */
+ * reads: pos0, mass, material, flags (the parts); writes: csph (C_i). */
 __kernel void tl_correction(__global const vec *restrict pos0, __global const real *restrict mass,
-                            __global const int *restrict material, GRID_ARGS,
+                            __global const int *restrict material,
+                            __global const int *restrict flags, GRID_ARGS,
                             __constant const struct sph_material *materials,
                             __constant const struct sph_run_params *run,
                             __global symt *restrict csph, const int n)
@@ -55,10 +60,17 @@ __kernel void tl_correction(__global const vec *restrict pos0, __global const re
     const real inv_h = (real)1 / run->h, support2 = run->support * run->support;
     const vec xi = pos0[i];
     real moment[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
+#ifndef SPH_PART_CONTACT
+    (void)flags;
+#endif
     FOR_EACH_NEIGHBOUR_WITHIN(i, j, SPH_GRID_SPLIT)
     {
         const vec xij = xi - pos0[j];
         const real r2 = dot(xij, xij);
+#ifdef SPH_PART_CONTACT
+        if (SPH_PART_OF(flags[j]) != SPH_PART_OF(flags[i]))
+            continue; /* another continuum */
+#endif
         if (j != i && r2 < support2) {
             /* - V0_j X_ij (x) g_ij: the moment of X_j - X_i */
             const real s = -tl_reference_volume(mass, material, materials, j) *
@@ -76,16 +88,31 @@ __kernel void tl_correction(__global const vec *restrict pos0, __global const re
     csph[i] = symt_store(c); /* symmetric: grad W_ij is along X_ij */
 }
 
+/* x_j - x_i of a pair, as X_j - X_i + (u_j - u_i) from X_ij = X_i - X_j
+ * and the displacements: the positions' own differences carry their
+ * rounding, one unit in the last place of x (1e-9 m at 1 cm in single
+ * precision), which is a strain of 4e-6 at a spacing of 0.25 mm (0.8 MPa
+ * in steel); a body at rest then rang at 0.03 m/s and the hourglass
+ * springs, stiffer than the material, pumped that noise into the
+ * viscosity for ever (0.01 J in 16 us in a free 20 x 2 mm steel bar, none
+ * in double precision). The displacement's rounding is that of u, not x:
+ * a body at rest is exactly at rest. */
+static inline realv tl_current_separation(realv big_xij, real u_j, realv u_i)
+{
+    return (u_j - u_i) - big_xij;
+}
+
 /* The reference pair of the lanes with candidate j: X_ij = X_i - X_j, its
  * square and q0 = |X_ij| / h, the lanes for which j is a reference
- * neighbour (within the support, not i itself; lanes that are not live sit
- * at LANE_FAR) and g_ij = grad_X W(|X_ij|) with respect to X_i, zero in
- * the other lanes. The mask of the reference pairs never changes, so every
- * candidate's test is the same as at t = 0. */
-static inline maskv tl_reference_pair(realv big_xi[3], vec big_xj, real support2, real inv_h,
-                                      realv big_xij[3], realv *r02, realv *q0, realv grad[3])
+ * neighbour (within the support, of the lane's own part (own_part,
+ * OWN_PART), not i itself; lanes that are not live sit at LANE_FAR) and g_ij = grad_X W(|X_ij|)
+ * with respect to X_i, zero in the other lanes. The mask of the reference pairs never changes, so
+ * every candidate's test is the same as at t = 0. */
+static inline maskv tl_reference_pair(realv big_xi[3], vec big_xj, maskv own_part, real support2,
+                                      real inv_h, realv big_xij[3], realv *r02, realv *q0,
+                                      realv grad[3])
 {
-    const maskv near = lane_pair(big_xi, big_xj, support2, big_xij, r02);
+    const maskv near = lane_pair(big_xi, big_xj, support2, big_xij, r02) & own_part;
     *q0 = sqrt(*r02) * inv_h;
     const realv dwdr_r = SPH_SELECT((realv)0, kernel_dwdr_over_r_q(*q0, inv_h), near);
 #pragma unroll
@@ -166,15 +193,16 @@ static inline void tl_deformation_finish(
  * x^(n+1). The material update gets L = dF/dt (F^n + dt/2 dF/dt)^-1, the
  * mid-step velocity gradient. One work-item per lane block
  * (kernels/lanes.cl); the blocks walk the reference grid.
- * reads: pos, pos0, vel_half, xsph_velocity, mass, rho, material, flags,
- * csph, energy_rate; writes: deformation_gradient (F^(n+1)), rho, first_piola;
- * updates: the material state (MATERIAL_STATE_ARGS). */
+ * reads: pos (the material update's), displacement, pos0, vel_half,
+ * xsph_velocity, mass, rho, material, flags, csph, energy_rate; writes: deformation_gradient
+ * (F^(n+1)), rho, first_piola; updates: the material state (MATERIAL_STATE_ARGS). */
 __kernel void
-tl_deformation(__global const vec *restrict pos, __global const vec *restrict pos0,
-               __global const vec *restrict vel_half, __global const vec *restrict xsph_velocity,
-               __global const real *restrict mass, __global real *restrict rho,
-               __global const int *restrict material, __global const int *restrict flags,
-               LANE_GRID_ARGS, __constant const struct sph_material *materials,
+tl_deformation(__global const vec *restrict pos, __global const vec *restrict displacement,
+               __global const vec *restrict pos0, __global const vec *restrict vel_half,
+               __global const vec *restrict xsph_velocity, __global const real *restrict mass,
+               __global real *restrict rho, __global const int *restrict material,
+               __global const int *restrict flags, LANE_GRID_ARGS,
+               __constant const struct sph_material *materials,
                __constant const struct sph_run_params *run, __global const symt *restrict csph,
                const real dt, __global fullt *restrict deformation_gradient,
                __global fullt *restrict first_piola, MATERIAL_STATE_ARGS, const int n)
@@ -183,29 +211,33 @@ tl_deformation(__global const vec *restrict pos, __global const vec *restrict po
     if (!lane_block_setup(&b, flags, sort_keys, grid_dims, n))
         return;
     LANE_PASS_CONSTANTS;
-    realv big_xi[3], xi[3], wi[3], xsph_i[3];
+    realv big_xi[3], ui[3], wi[3], xsph_i[3];
     lane_positions(pos0, &b, n, big_xi);
-    gather_vec(pos, &b, n, xi);
+    gather_vec(displacement, &b, n, ui);
     gather_vec(vel_half, &b, n, wi);
     gather_vec(xsph_velocity, &b, n, xsph_i);
 #pragma unroll
     for (int a = 0; a < 3; ++a)
         wi[a] += xsph_i[a];
+#ifdef SPH_PART_CONTACT
+    const realv parts = lane_parts(flags, &b, n);
+#endif
     realv sum_x[3][3], sum_w[3][3];
     tensor_zero_v(sum_x);
     tensor_zero_v(sum_w);
     FOR_EACH_LANE_NEIGHBOUR(b, j)
     {
         realv big_xij[3], r02, q0, grad[3];
-        if (!lanes_any(
-                tl_reference_pair(big_xi, pos0[j], support2, inv_h, big_xij, &r02, &q0, grad)))
+        if (!lanes_any(tl_reference_pair(big_xi, pos0[j], OWN_PART(parts, j), support2, inv_h,
+                                         big_xij, &r02, &q0, grad)))
             continue;
         const real volume = tl_reference_volume(mass, material, materials, j);
-        const vec xj = pos[j], wj = vel_half[j] + xsph_velocity[j];
+        const vec uj = displacement[j], wj = vel_half[j] + xsph_velocity[j];
         realv x[3], w[3];
 #pragma unroll
         for (int a = 0; a < 3; ++a) {
-            x[a] = a < SPH_DIM ? vec_get(xj, a) - xi[a] : (realv)0;
+            x[a] =
+                a < SPH_DIM ? tl_current_separation(big_xij[a], vec_get(uj, a), ui[a]) : (realv)0;
             w[a] = a < SPH_DIM ? vec_get(wj, a) - wi[a] : (realv)0;
         }
         outer_add(sum_x, volume, x, grad);
@@ -225,23 +257,24 @@ tl_deformation(__global const vec *restrict pos, __global const vec *restrict po
 
 /* What tl_momentum holds of its own particles, one lane each. */
 struct tl_lanes_i {
-    realv x0[3], x[3], v[3], a[3][3], f[3][3], rho, c;
+    realv x0[3], u[3], v[3], a[3][3], f[3][3], rho, c; /* u: displacement */
     realv hourglass;     /* the hourglass stiffness alpha E / rho0_i (tl_momentum) */
     realv alpha;         /* SPH_AV_SWITCH: each lane's own alpha (else unused) */
     real beta_per_alpha; /* SPH_AV_SWITCH: the case's beta / alpha */
 };
 
 static inline void
-tl_gather(struct tl_lanes_i *I, const struct lane_block *b, int n, __global const vec *restrict pos,
-          __global const vec *restrict pos0, __global const vec *restrict vel,
-          __global const real *restrict rho, __global const fullt *restrict first_piola,
+tl_gather(struct tl_lanes_i *I, const struct lane_block *b, int n,
+          __global const vec *restrict displacement, __global const vec *restrict pos0,
+          __global const vec *restrict vel, __global const real *restrict rho,
+          __global const fullt *restrict first_piola,
           __global const fullt *restrict deformation_gradient,
           __global const real *restrict sound_speed, __global const int *restrict material,
           __global const real *restrict av_alpha, __constant const struct sph_material *materials,
           __constant const struct sph_run_params *run)
 {
     lane_positions(pos0, b, n, I->x0);
-    gather_vec(pos, b, n, I->x);
+    gather_vec(displacement, b, n, I->u);
     gather_vec(vel, b, n, I->v);
     gather_fullt(first_piola, b, n, I->a);
     gather_fullt(deformation_gradient, b, n, I->f);
@@ -366,7 +399,7 @@ tl_momentum_store(const struct lane_block *b, const realv acc[3], const realv ac
 /* Pass 2 of the total Lagrangian form: stress force, artificial viscosity
  * (on the current pair geometry, as in the updated form), hourglass control,
  * XSPH. One work-item per lane block (kernels/lanes.cl).
- * reads: pos, pos0, vel, rho, mass, first_piola, deformation_gradient,
+ * reads: displacement, pos0, vel, rho, mass, first_piola, deformation_gradient,
  * sound_speed, material, av_alpha (SPH_AV_SWITCH: the pair's alpha is the
  * mean of the particles', beta in the case's ratio to it, as in pass 2);
  * writes: acceleration, energy_rate, viscous_heating
@@ -374,7 +407,7 @@ tl_momentum_store(const struct lane_block *b, const realv acc[3], const realv ac
  * the hourglass forces take out of the motion, -1/2 sum_j v_ij . a_hg,ij,
  * which is not heat and is kept apart for the energy ledger), xsph_velocity. */
 __kernel void
-tl_momentum(__global const vec *restrict pos, __global const vec *restrict pos0,
+tl_momentum(__global const vec *restrict displacement, __global const vec *restrict pos0,
             __global const vec *restrict vel, __global const real *restrict rho,
             __global const real *restrict mass, __global const fullt *restrict first_piola,
             __global const fullt *restrict deformation_gradient,
@@ -391,17 +424,20 @@ tl_momentum(__global const vec *restrict pos, __global const vec *restrict pos0,
         return;
     LANE_PASS_CONSTANTS;
     struct tl_lanes_i I;
-    tl_gather(&I, &b, n, pos, pos0, vel, rho, first_piola, deformation_gradient, sound_speed,
-              material, av_alpha, materials, run);
+    tl_gather(&I, &b, n, displacement, pos0, vel, rho, first_piola, deformation_gradient,
+              sound_speed, material, av_alpha, materials, run);
     realv acc[3] = {(realv)0, (realv)0, (realv)0};       /* the stress force times rho0_i */
     realv acc_extra[3] = {(realv)0, (realv)0, (realv)0}; /* viscosity, hourglass */
     realv xsph[3] = {(realv)0, (realv)0, (realv)0};
     realv de = (realv)0, hourglass_rate = (realv)0;
+#ifdef SPH_PART_CONTACT
+    const realv parts = lane_parts(flags, &b, n);
+#endif
     FOR_EACH_LANE_NEIGHBOUR(b, j)
     {
         realv big_xij[3], r02, q0, grad[3];
-        const maskv reference =
-            tl_reference_pair(I.x0, pos0[j], support2, inv_h, big_xij, &r02, &q0, grad);
+        const maskv reference = tl_reference_pair(I.x0, pos0[j], OWN_PART(parts, j), support2,
+                                                  inv_h, big_xij, &r02, &q0, grad);
         if (!lanes_any(reference))
             continue;
         const real volume_j = tl_reference_volume(mass, material, materials, j);
@@ -416,11 +452,12 @@ tl_momentum(__global const vec *restrict pos, __global const vec *restrict pos0,
                 stress_force += (I.a[a][c] + a_j[a][c]) * grad[c];
             acc[a] += volume_j * stress_force;
         }
-        const vec xj = pos[j], vj = vel[j];
+        const vec uj = displacement[j], vj = vel[j];
         realv xij[3], vij[3];
 #pragma unroll
         for (int a = 0; a < 3; ++a) {
-            xij[a] = a < SPH_DIM ? I.x[a] - vec_get(xj, a) : (realv)0;
+            xij[a] =
+                a < SPH_DIM ? -tl_current_separation(big_xij[a], vec_get(uj, a), I.u[a]) : (realv)0;
             vij[a] = a < SPH_DIM ? I.v[a] - vec_get(vj, a) : (realv)0;
         }
         tl_viscosity(&I, xij, vij, support2, h, inv_h, j, mass, rho, sound_speed, av_alpha, run,

@@ -405,11 +405,6 @@ static const struct bad_input bad_inputs[] = {
      "numerics.dx: expected a positive number (m), got the quoted string '1e-3'"},
     {"part out of range", MINIMAL "    part: 256\nnumerics: {dx: 1e-3, end_time: 1e-3}\n", 12,
      "bodies.0.part: expected an integer from 0 to 255, got '256'"},
-    {"parts in the total Lagrangian form",
-     MINIMAL "  - name: clamp\n    material: steel\n    part: 1\n    min: [-0.004, -0.005]\n"
-             "    max: [0.0, 0.005]\n"
-             "numerics: {dx: 1e-3, end_time: 1e-3, formulation: total_lagrangian}\n",
-     7, "bodies of different parts meet by contact, which needs formulation updated_lagrangian"},
     {"fractional exponent",
      MINIMAL "numerics:\n  dx: 1e-3\n  end_time: 3.0e-3\n  artificial_stress: {exponent: 2.5}\n",
      15, "numerics.artificial_stress.exponent: expected an integer from 1 to 8, got '2.5'"},
