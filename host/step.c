@@ -239,16 +239,18 @@ static void sort_keys(struct solver *s)
     solver_sort_keys(s, s->sort_keys, s->grid.cell_count);
 }
 
-static void cell_ranges(struct solver *s)
+/* Each cell's range of sorted keys into start / end (cleared to -1 first)
+ * by `ranges` (grid_cell_ranges, or the contact search's). */
+static void cell_ranges(struct solver *s, cl_kernel ranges, cl_mem start, cl_mem end)
 {
     const cl_int minus_one = -1, cells = s->grid.cell_count;
-    cl_mem targets[2] = {s->cell_start, s->cell_end};
+    cl_mem targets[2] = {start, end};
     for (int t = 0; t < 2; ++t) {
         SET_ARGS(s, s->k.fill_int, MEM("a", targets[t]), INT("value", minus_one), INT("n", cells));
         solver_launch(s, s->k.fill_int, (size_t)cells, 0);
     }
-    SET_ARGS(s, s->k.cell_ranges, INT("n", s->n));
-    solver_launch(s, s->k.cell_ranges, (size_t)s->n, 0);
+    SET_ARGS(s, ranges, INT("n", s->n));
+    solver_launch(s, ranges, (size_t)s->n, 0);
 }
 
 /* Graded lattices: each particle's search reach from the levels about it
@@ -291,7 +293,7 @@ int solver_sort(struct solver *s, char *error, size_t error_size)
         failed || solver_ghosts_rebuild(s, error, error_size) || layout_grid(s, error, error_size);
     if (!failed) {
         sort_keys(s);
-        cell_ranges(s);
+        cell_ranges(s, s->k.cell_ranges, s->cell_start, s->cell_end);
         solver_gather_persistent(s);
         s->moved_since_sort = 0;
         ++s->sorts;
@@ -431,19 +433,12 @@ static void tl_part_contact(struct solver *s)
 {
     struct real4_arg a_origin;
     struct real_arg a_inv_cell;
-    const cl_int minus_one = -1, cells = s->grid.cell_count;
     SET_ARGS(s, s->k.contact_cell_keys, INT("n", s->n),
              real4_value(s, &a_origin, "origin", s->grid.origin),
              real_value(s, &a_inv_cell, "inv_cell_size", 1.0 / s->grid.cell_size));
     solver_launch(s, s->k.contact_cell_keys, (size_t)s->n, 0);
-    solver_sort_keys(s, s->contact_keys, cells);
-    cl_mem targets[2] = {s->contact_cell_start, s->contact_cell_end};
-    for (int t = 0; t < 2; ++t) {
-        SET_ARGS(s, s->k.fill_int, MEM("a", targets[t]), INT("value", minus_one), INT("n", cells));
-        solver_launch(s, s->k.fill_int, (size_t)cells, 0);
-    }
-    SET_ARGS(s, s->k.contact_cell_ranges, INT("n", s->n));
-    solver_launch(s, s->k.contact_cell_ranges, (size_t)s->n, 0);
+    solver_sort_keys(s, s->contact_keys, s->grid.cell_count);
+    cell_ranges(s, s->k.contact_cell_ranges, s->contact_cell_start, s->contact_cell_end);
     SET_ARGS(s, s->k.tl_part_contact, real4_value(s, &a_origin, "origin", s->grid.origin),
              real_value(s, &a_inv_cell, "inv_cell_size", 1.0 / s->grid.cell_size), INT("n", s->n));
     solver_launch(s, s->k.tl_part_contact, pass_items(s), 0);
