@@ -11,8 +11,14 @@ set -e
 sph=$1 out=$2
 case=$(dirname "$0")/../../../cases/rubber_rings_2d.yaml
 lat="--set numerics.artificial_stress.weight=lattice"
+# the case as it was shipped then (since session 41 it runs the total
+# Lagrangian form with the one numerics block)
+then="--set numerics.formulation=updated_lagrangian
+      --set numerics.artificial_viscosity.scheme=monaghan
+      --set numerics.artificial_viscosity.alpha=1.0 --set numerics.artificial_viscosity.beta=1.0
+      --set numerics.xsph=0.5 --set numerics.artificial_stress.epsilon=0.3"
 mkdir -p "$out"
-run() { name=$1; shift; "$sph" run "$case" --quiet --out "$out/$name" "$@"; }
+run() { name=$1; shift; "$sph" run "$case" --quiet --out "$out/$name" $then "$@"; }
 for dx in 2e-3 1e-3 0.5e-3; do
     run A_$dx --set numerics.dx=$dx
     run B_$dx --set numerics.dx=$dx --set numerics.h_over_dx=1.5
