@@ -835,10 +835,14 @@ void case_note_welding(const struct sph_case *c, FILE *out)
             if (p->part == q->part && differ)
                 fprintf(out,
                         "sph: note: bodies '%s' and '%s' are one part (bodies[].part %d) and start "
-                        "at different velocities: where they meet they act as one continuum and "
-                        "weld; give them different parts to let them meet by contact and part "
-                        "again (docs/validation_contact.md)\n",
-                        p->name, q->name, p->part);
+                        "at different velocities: %s; give them different parts to let them meet "
+                        "by contact and part again (docs/validation_contact.md)\n",
+                        p->name, q->name, p->part,
+                        c->numerics.total_lagrangian
+                            ? "in the total Lagrangian form they pass through each other where "
+                              "they meet (only the neighbours of t = 0 interact), and are one "
+                              "continuum where they touch at t = 0"
+                            : "where they meet they act as one continuum and weld");
         }
 }
 
