@@ -95,8 +95,9 @@ __kernel void tl_correction(__global const vec *restrict pos0, __global const re
  * in steel); a body at rest then rang at 0.03 m/s and the hourglass
  * springs, stiffer than the material, pumped that noise into the
  * viscosity for ever (0.01 J in 16 us in a free 20 x 2 mm steel bar, none
- * in double precision). The displacement's rounding is that of u, not x:
- * a body at rest is exactly at rest. */
+ * in double precision). The displacement's rounding is that of u, not x;
+ * what a body at rest keeps is C_i's rounding in F = B C (0.002 m/s in
+ * that bar). */
 static inline realv tl_current_separation(realv big_xij, real u_j, realv u_i)
 {
     return (u_j - u_i) - big_xij;
@@ -104,10 +105,11 @@ static inline realv tl_current_separation(realv big_xij, real u_j, realv u_i)
 
 /* The reference pair of the lanes with candidate j: X_ij = X_i - X_j, its
  * square and q0 = |X_ij| / h, the lanes for which j is a reference
- * neighbour (within the support, of the lane's own part (own_part,
- * OWN_PART), not i itself; lanes that are not live sit at LANE_FAR) and g_ij = grad_X W(|X_ij|)
- * with respect to X_i, zero in the other lanes. The mask of the reference pairs never changes, so
- * every candidate's test is the same as at t = 0. */
+ * neighbour (within the support, of the lane's own part: own_part,
+ * OWN_PART; not i itself; lanes that are not live sit at LANE_FAR) and
+ * g_ij = grad_X W(|X_ij|) with respect to X_i, zero in the other lanes.
+ * The mask of the reference pairs never changes, so every candidate's
+ * test is the same as at t = 0. */
 static inline maskv tl_reference_pair(realv big_xi[3], vec big_xj, maskv own_part, real support2,
                                       real inv_h, realv big_xij[3], realv *r02, realv *q0,
                                       realv grad[3])
@@ -194,8 +196,9 @@ static inline void tl_deformation_finish(
  * mid-step velocity gradient. One work-item per lane block
  * (kernels/lanes.cl); the blocks walk the reference grid.
  * reads: pos (the material update's), displacement, pos0, vel_half,
- * xsph_velocity, mass, rho, material, flags, csph, energy_rate; writes: deformation_gradient
- * (F^(n+1)), rho, first_piola; updates: the material state (MATERIAL_STATE_ARGS). */
+ * xsph_velocity, mass, rho, material, flags, csph, energy_rate;
+ * writes: deformation_gradient (F^(n+1)), rho, first_piola;
+ * updates: the material state (MATERIAL_STATE_ARGS). */
 __kernel void
 tl_deformation(__global const vec *restrict pos, __global const vec *restrict displacement,
                __global const vec *restrict pos0, __global const vec *restrict vel_half,
