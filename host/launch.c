@@ -91,6 +91,7 @@ static int solver_value(const struct solver *s, const char *name, struct arg *ou
         MEM("contact_keys", s->contact_keys),
         MEM("contact_cell_start", s->contact_cell_start),
         MEM("contact_cell_end", s->contact_cell_end),
+        MEM("contact_cell_part_bits", s->contact_cell_part_bits),
         MEM("cell_level", s->cell_level),
         MEM("lane_list_range", s->lane_list_range),
         MEM("lane_list", s->lane_list),

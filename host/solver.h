@@ -133,7 +133,7 @@ struct kernels {
     cl_kernel neighbour_reach, cell_max_level, coarser_seed, coarser_spread,
         apply_reach;           /* graded */
     cl_kernel lane_list_build; /* the lane passes' candidate lists */
-    cl_kernel contact_cell_keys, contact_cell_ranges,
+    cl_kernel contact_cell_keys, contact_cell_ranges, contact_cell_parts,
         tl_part_contact; /* total Lagrangian contact between parts */
 };
 
@@ -215,7 +215,7 @@ struct solver {
     cl_mem sort_buckets, sort_block_totals; /* the sort's counts (solver_sort_keys) */
     /* the total Lagrangian form's contact search on current positions, on
      * the reference grid's cells (kernels/contact_current.cl) */
-    cl_mem contact_keys, contact_cell_start, contact_cell_end;
+    cl_mem contact_keys, contact_cell_start, contact_cell_end, contact_cell_part_bits;
     int sort_bucket_capacity;
     /* the lane passes' candidates: block b's are lane_list[range[2 b] ..
      * range[2 b + 1]) (solver_lane_lists_build); claim: the build's counters */

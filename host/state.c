@@ -546,6 +546,7 @@ void solver_release_buffers(struct solver *s)
     solver_release_buffer(&s->contact_keys);
     solver_release_buffer(&s->contact_cell_start);
     solver_release_buffer(&s->contact_cell_end);
+    solver_release_buffer(&s->contact_cell_part_bits);
     solver_release_buffer(&s->cell_start);
     solver_release_buffer(&s->cell_level);
     solver_release_buffer(&s->sort_buckets);

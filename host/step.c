@@ -51,6 +51,7 @@ static void step_kernels(struct solver *s, int make)
         {&k->lane_list_build, s->lane_lists ? "lane_list_build" : NULL, 0},
         {&k->contact_cell_keys, tl_contact ? "contact_cell_keys" : NULL, 0},
         {&k->contact_cell_ranges, tl_contact ? "contact_cell_ranges" : NULL, 0},
+        {&k->contact_cell_parts, tl_contact ? "contact_cell_parts" : NULL, 0},
         {&k->tl_part_contact, tl_contact ? "tl_part_contact" : NULL, 0},
     };
     solver_kernels(s, list, (int)(sizeof list / sizeof list[0]), make);
@@ -216,11 +217,12 @@ static int layout_grid(struct solver *s, char *error, size_t error_size)
 
 void solver_make_cell_buffers(struct solver *s, size_t bytes)
 {
-    cl_mem *cells[] = {&s->cell_start,      &s->cell_end,        &s->cell_level,
-                       &s->cell_coarser[0], &s->cell_coarser[1], &s->contact_cell_start,
-                       &s->contact_cell_end};
+    cl_mem *cells[] = {&s->cell_start,       &s->cell_end,
+                       &s->cell_level,       &s->cell_coarser[0],
+                       &s->cell_coarser[1],  &s->contact_cell_start,
+                       &s->contact_cell_end, &s->contact_cell_part_bits};
     const int tl_contact = s->total_lagrangian && s->part_contact;
-    for (int c = 0; c < 7; ++c) {
+    for (int c = 0; c < 8; ++c) {
         solver_release_buffer(cells[c]);
         /* the level buffers: graded lattices only; the contact search's:
          * the total Lagrangian form with parts only */
@@ -427,8 +429,8 @@ static void tl_momentum(struct solver *s)
 /* The contact of parts in the total Lagrangian form (kernels/
  * contact_current.cl): a cell list of the current positions, sorted at
  * every step on the reference grid's cells (particles outside its box sit
- * in its border cells), then the contact pass over it, which adds to what
- * tl_momentum wrote. */
+ * in its border cells) with the set of parts in each cell, then the
+ * contact pass over it, which adds to what tl_momentum wrote. */
 static void tl_part_contact(struct solver *s)
 {
     struct real4_arg a_origin;
@@ -439,6 +441,12 @@ static void tl_part_contact(struct solver *s)
     solver_launch(s, s->k.contact_cell_keys, (size_t)s->n, 0);
     solver_sort_keys(s, s->contact_keys, s->grid.cell_count);
     cell_ranges(s, s->k.contact_cell_ranges, s->contact_cell_start, s->contact_cell_end);
+    const cl_int zero = 0, cells = s->grid.cell_count;
+    SET_ARGS(s, s->k.fill_int, MEM("a", s->contact_cell_part_bits), INT("value", zero),
+             INT("n", cells));
+    solver_launch(s, s->k.fill_int, (size_t)cells, 0);
+    SET_ARGS(s, s->k.contact_cell_parts, INT("n", s->n));
+    solver_launch(s, s->k.contact_cell_parts, (size_t)s->n, 0);
     SET_ARGS(s, s->k.tl_part_contact, real4_value(s, &a_origin, "origin", s->grid.origin),
              real_value(s, &a_inv_cell, "inv_cell_size", 1.0 / s->grid.cell_size), INT("n", s->n));
     solver_launch(s, s->k.tl_part_contact, pass_items(s), 0);

@@ -47,6 +47,54 @@ __kernel void contact_cell_ranges(__global const ulong *restrict contact_keys,
         mark_cell_range(contact_keys, contact_cell_start, contact_cell_end, i, n);
 }
 
+/* A part's bit in a cell's set of parts: parts 0-30 their own, the rest
+ * share bit 31 (a block of such a part is never skipped). */
+static inline uint part_bit(int part)
+{
+    return part < 31 ? 1u << part : 1u << 31;
+}
+
+/* reads contact_keys (sorted), flags; updates contact_cell_parts (cleared
+ * to 0): the set of the parts in each cell. */
+__kernel void contact_cell_parts(__global const ulong *restrict contact_keys,
+                                 __global const int *restrict flags,
+                                 __global int *restrict contact_cell_part_bits, const int n)
+{
+    const int k = get_global_id(0);
+    if (k >= n)
+        return;
+    const ulong key = contact_keys[k];
+    atomic_or(&contact_cell_part_bits[(int)(key >> 32)],
+              (int)part_bit(SPH_PART_OF(flags[(int)(key & 0xffffffffu)])));
+}
+
+/* Whether no other part than the block's own is in the cells its search
+ * reaches: then no lane has a contact and the block's walk is skipped
+ * (most blocks: the contact is a face). A block of two parts, or of a
+ * part above 30, is never skipped. */
+static inline bool contact_block_alone(const struct lane_block *b,
+                                       __global const int *restrict flags,
+                                       __global const int *restrict contact_cell_part_bits,
+                                       const int4 grid_dims, const int reach)
+{
+    const int first_part = SPH_PART_OF(flags[b->first]);
+    for (int l = 1; l < SPH_LANES; ++l)
+        if (lane_live(b, l) && SPH_PART_OF(flags[b->first + l]) != first_part)
+            return false;
+    if (first_part >= 31)
+        return false;
+    uint others = 0;
+    for (int cz = max(b->lo.z - GRID_DZ * reach, 0);
+         cz <= min(b->hi.z + GRID_DZ * reach, grid_dims.z - 1); ++cz)
+        for (int cy = max(b->lo.y - reach, 0); cy <= min(b->hi.y + reach, grid_dims.y - 1); ++cy) {
+            const int row = (cz * grid_dims.y + cy) * grid_dims.x;
+            for (int cx = max(b->lo.x - reach, 0); cx <= min(b->hi.x + reach, grid_dims.x - 1);
+                 ++cx)
+                others |= (uint)contact_cell_part_bits[row + cx];
+        }
+    return (others & ~part_bit(first_part)) == 0;
+}
+
 /* The box of the live lanes' current cells (the block's reference box is
  * lane_block_setup's). */
 static inline void contact_block_box(struct lane_block *b, __global const vec *restrict pos,
@@ -114,7 +162,7 @@ contact_pair(const struct contact_lanes_i *I, int j, real d2, realv face,
  * tl_momentum wrote. One work-item per lane block (kernels/lanes.cl), the
  * candidates from the current cells around the block's lanes.
  * reads: pos, vel, rho, mass, sound_speed, av_alpha (SPH_AV_SWITCH), flags,
- * contact_keys, contact_cell_start, contact_cell_end;
+ * contact_keys, contact_cell_start, contact_cell_end, contact_cell_part_bits;
  * updates: acceleration, energy_rate, viscous_heating. */
 __kernel void
 tl_part_contact(__global const vec *restrict pos, __global const vec *restrict vel,
@@ -123,7 +171,8 @@ tl_part_contact(__global const vec *restrict pos, __global const vec *restrict v
                 __global const int *restrict flags, __global const ulong *restrict sort_keys,
                 const int4 grid_dims, __global const ulong *restrict contact_keys,
                 __global const int *restrict contact_cell_start,
-                __global const int *restrict contact_cell_end, const real4 origin,
+                __global const int *restrict contact_cell_end,
+                __global const int *restrict contact_cell_part_bits, const real4 origin,
                 const real inv_cell_size, __constant const struct sph_run_params *run,
                 __global vec *restrict acceleration, __global real *restrict energy_rate,
                 __global real *restrict viscous_heating, const int n)
@@ -132,6 +181,9 @@ tl_part_contact(__global const vec *restrict pos, __global const vec *restrict v
     if (!lane_block_setup(&b, flags, sort_keys, grid_dims, n))
         return;
     contact_block_box(&b, pos, origin, inv_cell_size, grid_dims);
+    const int reach = SPH_GRID_SPLIT; /* cells of the support: d is within */
+    if (contact_block_alone(&b, flags, contact_cell_part_bits, grid_dims, reach))
+        return;
     struct contact_lanes_i I;
     lane_positions(pos, &b, n, I.x);
     gather_vec(vel, &b, n, I.v);
@@ -143,7 +195,6 @@ tl_part_contact(__global const vec *restrict pos, __global const vec *restrict v
     const real d = run->h * run->av_eta_crit; /* the lattice spacing */
     const realv face = part_contact_face(run);
     realv acc[3] = {(realv)0, (realv)0, (realv)0}, de = (realv)0, de_viscous = (realv)0;
-    const int reach = SPH_GRID_SPLIT; /* cells of the support: d is within */
     for (int cz = max(b.lo.z - GRID_DZ * reach, 0);
          cz <= min(b.hi.z + GRID_DZ * reach, grid_dims.z - 1); ++cz)
         for (int cy = max(b.lo.y - reach, 0); cy <= min(b.hi.y + reach, grid_dims.y - 1); ++cy) {
