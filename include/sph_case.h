@@ -296,7 +296,8 @@ int case_has_viscosity(const struct sph_case *c);
  * meet by contact (kernels/pass2.cl, SPH_PART_CONTACT). */
 int case_has_part_contact(const struct sph_case *c);
 /* Prints a note for every two bodies of one part that start at different
- * velocities: they weld where they meet, which is rarely what was meant. */
+ * velocities: they weld where they meet (in the total Lagrangian form they
+ * pass through each other), which is rarely what was meant. */
 void case_note_welding(const struct sph_case *c, FILE *out);
 /* The coordinate axis a wall's normal lies along (0-2), -1 if none. */
 int case_wall_axis(const struct case_wall *w);

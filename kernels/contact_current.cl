@@ -84,14 +84,10 @@ static inline bool contact_block_alone(const struct lane_block *b,
     if (first_part >= 31)
         return false;
     uint others = 0;
-    for (int cz = max(b->lo.z - GRID_DZ * reach, 0);
-         cz <= min(b->hi.z + GRID_DZ * reach, grid_dims.z - 1); ++cz)
-        for (int cy = max(b->lo.y - reach, 0); cy <= min(b->hi.y + reach, grid_dims.y - 1); ++cy) {
-            const int row = (cz * grid_dims.y + cy) * grid_dims.x;
-            for (int cx = max(b->lo.x - reach, 0); cx <= min(b->hi.x + reach, grid_dims.x - 1);
-                 ++cx)
-                others |= (uint)contact_cell_part_bits[row + cx];
-        }
+    LANE_CELL_ROWS(*b, reach, row, x0, x1)
+    for (int cx = x0; cx <= x1; ++cx)
+        others |= (uint)contact_cell_part_bits[row + cx];
+    END_LANE_CELL_ROWS
     return (others & ~part_bit(first_part)) == 0;
 }
 
@@ -195,17 +191,12 @@ tl_part_contact(__global const vec *restrict pos, __global const vec *restrict v
     const real d = run->h * run->av_eta_crit; /* the lattice spacing */
     const realv face = part_contact_face(run);
     realv acc[3] = {(realv)0, (realv)0, (realv)0}, de = (realv)0, de_viscous = (realv)0;
-    for (int cz = max(b.lo.z - GRID_DZ * reach, 0);
-         cz <= min(b.hi.z + GRID_DZ * reach, grid_dims.z - 1); ++cz)
-        for (int cy = max(b.lo.y - reach, 0); cy <= min(b.hi.y + reach, grid_dims.y - 1); ++cy) {
-            const int row = (cz * grid_dims.y + cy) * grid_dims.x;
-            const int2 span =
-                cell_row_span(contact_cell_start, contact_cell_end, row, max(b.lo.x - reach, 0),
-                              min(b.hi.x + reach, grid_dims.x - 1));
-            for (int k = span.x; k < span.y; ++k)
-                contact_pair(&I, (int)(contact_keys[k] & 0xffffffffu), d * d, face, pos, vel, rho,
-                             mass, sound_speed, av_alpha, flags, run, acc, &de, &de_viscous);
-        }
+    LANE_CELL_WALK_IN(b, k, contact_cell_start, contact_cell_end, reach)
+    {
+        contact_pair(&I, (int)(contact_keys[k] & 0xffffffffu), d * d, face, pos, vel, rho, mass,
+                     sound_speed, av_alpha, flags, run, acc, &de, &de_viscous);
+    }
+    END_LANE_CELL_WALK
     for (int l = 0; l < SPH_LANES; ++l) {
         if (!lane_live(&b, l))
             continue;

@@ -7,7 +7,8 @@
  * place keys within a bucket, which it then orders: grid_bucket_order).
  */
 
-/* The cell of a position (clamped to the grid), the home of every grid. */
+/* The cell of a position, clamped to the grid (the sort's keys and the
+ * total Lagrangian contact search's). */
 static inline uint cell_of_position(vec p, real4 origin, real inv_cell_size, int4 grid_dims)
 {
     int cx = (int)floor((p.x - origin.x) * inv_cell_size);

@@ -138,23 +138,36 @@ static inline bool lane_live(const struct lane_block *b, int l)
 #define LANE_GRID_ARGS                                                                             \
     GRID_ARGS, __global const int2 *restrict lane_list_range, __global const int *restrict lane_list
 
-/* LANE_CELL_WALK(block, j) { ... } END_LANE_CELL_WALK: every j in the
- * cells within LANE_REACH of the block's box, in the cells' order; rows
- * of cells are contiguous in the sorted order, as in FOR_EACH_NEIGHBOUR. */
-#define LANE_CELL_WALK(b, j)                                                                       \
-    for (int cz_ = max((b).lo.z - GRID_DZ * LANE_REACH(b), 0);                                     \
-         cz_ <= min((b).hi.z + GRID_DZ * LANE_REACH(b), grid_dims.z - 1); ++cz_)                   \
-        for (int cy_ = max((b).lo.y - LANE_REACH(b), 0);                                           \
-             cy_ <= min((b).hi.y + LANE_REACH(b), grid_dims.y - 1); ++cy_) {                       \
-            const int row_ = (cz_ * grid_dims.y + cy_) * grid_dims.x;                              \
-            const int2 span_ =                                                                     \
-                cell_row_span(cell_start, cell_end, row_, max((b).lo.x - LANE_REACH(b), 0),        \
-                              min((b).hi.x + LANE_REACH(b), grid_dims.x - 1));                     \
-            for (int j = span_.x; j < span_.y; ++j) {
+/* LANE_CELL_ROWS(block, reach, row, x0, x1) { ... } END_LANE_CELL_ROWS:
+ * the rows of grid cells within `reach` cells of the block's box, each as
+ * the index of its first cell, `row`, and the box's cells x0..x1 in it. */
+#define LANE_CELL_ROWS(b, reach, row, x0, x1)                                                      \
+    for (int cz_ = max((b).lo.z - GRID_DZ * (reach), 0);                                           \
+         cz_ <= min((b).hi.z + GRID_DZ * (reach), grid_dims.z - 1); ++cz_)                         \
+        for (int cy_ = max((b).lo.y - (reach), 0);                                                 \
+             cy_ <= min((b).hi.y + (reach), grid_dims.y - 1); ++cy_) {                             \
+            const int row = (cz_ * grid_dims.y + cy_) * grid_dims.x;                               \
+            const int x0 = max((b).lo.x - (reach), 0),                                             \
+                      x1 = min((b).hi.x + (reach), grid_dims.x - 1);
+
+#define END_LANE_CELL_ROWS }
+
+/* LANE_CELL_WALK_IN(block, k, start, end, reach) { ... } END_LANE_CELL_WALK:
+ * every slot k of the sorted order in the cells within `reach` of the
+ * block's box, in the cells' order, with the cell ranges start / end (the
+ * grid's, or the total Lagrangian contact search's); rows of cells are
+ * contiguous in the sorted order, as in FOR_EACH_NEIGHBOUR.
+ * LANE_CELL_WALK(block, j): the grid's, whose slots are the particles. */
+#define LANE_CELL_WALK_IN(b, k, start, end, reach)                                                 \
+    LANE_CELL_ROWS(b, reach, row_, x0_, x1_)                                                       \
+    const int2 span_ = cell_row_span(start, end, row_, x0_, x1_);                                  \
+    for (int k = span_.x; k < span_.y; ++k) {
 
 #define END_LANE_CELL_WALK                                                                         \
     }                                                                                              \
-    }
+    END_LANE_CELL_ROWS
+
+#define LANE_CELL_WALK(b, j) LANE_CELL_WALK_IN(b, j, cell_start, cell_end, LANE_REACH(b))
 
 /* FOR_EACH_LANE_NEIGHBOUR(block, j) { ... } END_FOR_EACH_LANE_NEIGHBOUR:
  * the candidates of the block's list, which are the cell walk's less those

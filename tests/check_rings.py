@@ -23,34 +23,25 @@ import sys
 
 import h5py
 import numpy as np
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
-from scipy.spatial import cKDTree
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(ROOT, "docs", "results", "taylor_session39"))
+from rings_pieces import pieces  # noqa: E402  (the count the rings' tables use)
 
 DX, LINK, SPEED_IN = 2e-3, 1.5, 50.27
 
 
-def pieces(x):
-    """the connected components of at least 10 points linked within LINK dx"""
-    pairs = cKDTree(x).query_pairs(LINK * DX, output_type="ndarray")
-    n = len(x)
-    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
-    _, label = connected_components(graph, directed=False)
-    return int(np.sum(np.bincount(label) >= 10))
-
-
 def main():
     sph, workdir = sys.argv[1], sys.argv[2]
-    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     out = os.path.join(workdir, "rings")
-    subprocess.run([sph, "run", os.path.join(root, "cases", "rubber_rings_2d.yaml"), "--quiet",
+    subprocess.run([sph, "run", os.path.join(ROOT, "cases", "rubber_rings_2d.yaml"), "--quiet",
                     "--out", out, "--set", "numerics.dx=%g" % DX], check=True)
     snaps = sorted(glob.glob(os.path.join(out, "snap_*.h5")))
     with h5py.File(snaps[0], "r") as f:
         left = np.array(f["position"])[:, 0] < 0
     with h5py.File(snaps[-1], "r") as f:
         x, v, m = np.array(f["position"])[:, :2], np.array(f["velocity"])[:, 0], np.array(f["mass"])
-    counts = pieces(x[left]), pieces(x[~left])
+    counts = pieces(x[left], LINK * DX), pieces(x[~left], LINK * DX)
     apart = (np.sum(m[~left] * v[~left]) / m[~left].sum() -
              np.sum(m[left] * v[left]) / m[left].sum()) / 2
     with open(os.path.join(out, "summary.json")) as f:
