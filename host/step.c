@@ -431,7 +431,7 @@ static void tl_momentum(struct solver *s)
  * every step on the reference grid's cells (particles outside its box sit
  * in its border cells) with the set of parts in each cell, then the
  * contact pass over it, which adds to what tl_momentum wrote. */
-static void tl_part_contact(struct solver *s)
+static void tl_contact_search(struct solver *s)
 {
     struct real4_arg a_origin;
     struct real_arg a_inv_cell;
@@ -447,6 +447,13 @@ static void tl_part_contact(struct solver *s)
     solver_launch(s, s->k.fill_int, (size_t)cells, 0);
     SET_ARGS(s, s->k.contact_cell_parts, INT("n", s->n));
     solver_launch(s, s->k.contact_cell_parts, (size_t)s->n, 0);
+}
+
+static void tl_part_contact(struct solver *s)
+{
+    tl_contact_search(s);
+    struct real4_arg a_origin;
+    struct real_arg a_inv_cell;
     SET_ARGS(s, s->k.tl_part_contact, real4_value(s, &a_origin, "origin", s->grid.origin),
              real_value(s, &a_inv_cell, "inv_cell_size", 1.0 / s->grid.cell_size), INT("n", s->n));
     solver_launch(s, s->k.tl_part_contact, pass_items(s), 0);
@@ -582,8 +589,18 @@ static void health_records(struct solver *s)
 {
     refresh_ghost_positions(s);
     struct real_arg a_dx;
-    SET_ARGS(s, s->k.health_pairs, real_value(s, &a_dx, "dx", s->dx),
-             MEM("records", s->gather_spare), INT("n", s->n));
+    if (s->total_lagrangian && s->part_contact) {
+        /* the other parts near each particle now (kernels/health.cl) */
+        tl_contact_search(s);
+        struct real4_arg a_origin;
+        struct real_arg a_inv_cell;
+        SET_ARGS(s, s->k.health_pairs, real_value(s, &a_dx, "dx", s->dx),
+                 MEM("records", s->gather_spare), INT("n", s->n),
+                 real4_value(s, &a_origin, "origin", s->grid.origin),
+                 real_value(s, &a_inv_cell, "inv_cell_size", 1.0 / s->grid.cell_size));
+    } else
+        SET_ARGS(s, s->k.health_pairs, real_value(s, &a_dx, "dx", s->dx),
+                 MEM("records", s->gather_spare), INT("n", s->n));
     solver_launch(s, s->k.health_pairs,
                   s->total_lagrangian ? (size_t)s->n : (size_t)solver_lane_blocks(s), 0);
 }

@@ -109,6 +109,38 @@ static inline void contact_block_box(struct lane_block *b, __global const vec *r
     }
 }
 
+/* The nearest particle of another part to particle i at xi, through the
+ * current cells around xi (for the health records: the reference cells
+ * that health_pairs walks hold only the neighbours of t = 0): lowers
+ * *nearest2 and sets *nearest (x_j - x_i) where one is closer. The list
+ * may be one step old (the search runs at the step's start), which the
+ * cells' skin covers. */
+static inline void contact_nearest_other_part(int i, vec xi, __global const vec *restrict pos,
+                                              __global const int *restrict flags,
+                                              __global const ulong *restrict contact_keys,
+                                              __global const int *restrict contact_cell_start,
+                                              __global const int *restrict contact_cell_end,
+                                              const real4 origin, const real inv_cell_size,
+                                              const int4 grid_dims, real *nearest2, vec *nearest)
+{
+    struct lane_block box;
+    box.lo = box.hi =
+        grid_cell_coords((int)cell_of_position(xi, origin, inv_cell_size, grid_dims), grid_dims);
+    LANE_CELL_WALK_IN(box, k, contact_cell_start, contact_cell_end, SPH_GRID_SPLIT)
+    {
+        const int j = (int)(contact_keys[k] & 0xffffffffu);
+        if (SPH_PART_OF(flags[j]) == SPH_PART_OF(flags[i]))
+            continue;
+        const vec d = pos[j] - xi;
+        const real r2 = dot(d, d);
+        if (r2 < *nearest2) {
+            *nearest2 = r2;
+            *nearest = d;
+        }
+    }
+    END_LANE_CELL_WALK
+}
+
 /* What the contact pass holds of its own particles, one lane each. */
 struct contact_lanes_i {
     realv x[3], v[3], rho, inv_rho, c, parts;

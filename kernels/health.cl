@@ -113,13 +113,28 @@ static inline struct health_record health_record_of(
 }
 
 #ifdef SPH_TOTAL_LAGRANGIAN
-/* One particle per work-item over the cells (FOR_EACH_NEIGHBOUR).
- * reads pos, pressure, deviatoric_stress, flags; writes records. */
+#ifdef SPH_PART_CONTACT
+/* the contact search's current cells (contact_current.cl) */
+#define TL_HEALTH_CONTACT_ARGS                                                                     \
+    , __global const ulong *restrict contact_keys,                                                 \
+        __global const int *restrict contact_cell_start,                                           \
+        __global const int *restrict contact_cell_end, const real4 origin,                         \
+        const real inv_cell_size
+#else
+#define TL_HEALTH_CONTACT_ARGS
+#endif
+/* One particle per work-item over the reference cells (FOR_EACH_NEIGHBOUR),
+ * and with parts (SPH_PART_CONTACT) the other parts' particles near it now
+ * through the contact search's cells, so that the nearest pair (clumping)
+ * is of any part, as in the updated form; the count stays the walk's.
+ * reads pos, pressure, deviatoric_stress, flags (and contact_keys,
+ * contact_cell_start, contact_cell_end); writes records. */
 __kernel void health_pairs(__global const vec *restrict pos, __global const real *restrict pressure,
                            __global const symt *restrict deviatoric_stress,
                            __global const int *restrict flags, GRID_ARGS,
                            __constant const struct sph_run_params *run, const real dx,
-                           __global struct health_record *restrict records, const int n)
+                           __global struct health_record *restrict records,
+                           const int n TL_HEALTH_CONTACT_ARGS)
 {
     const int i = get_global_id(0);
     if (i >= n)
@@ -147,6 +162,11 @@ __kernel void health_pairs(__global const vec *restrict pos, __global const real
         }
     }
     END_FOR_EACH_NEIGHBOUR
+#ifdef SPH_PART_CONTACT
+    contact_nearest_other_part(i, xi, pos, flags, contact_keys, contact_cell_start,
+                               contact_cell_end, origin, inv_cell_size, grid_dims, &nearest2,
+                               &nearest);
+#endif
     real offset[3];
 #pragma unroll
     for (int a = 0; a < 3; ++a)
