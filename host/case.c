@@ -1496,7 +1496,7 @@ static const struct field numerics_fields[] = {
     BOOL("csph", struct case_numerics, csph),
     ENUM("formulation", struct case_numerics, total_lagrangian, 0, 0, formulation_names, NULL),
     ENUM("smoothing", struct case_numerics, tensor_smoothing, 0, 0, smoothing_names, NULL),
-    NUMBER("hourglass", struct case_numerics, hourglass, 0, R_NONNEG, 0, 0, 10, NULL),
+    NUMBER("hourglass", struct case_numerics, hourglass, 0, R_NONNEG, 0, 0, 0.1, NULL),
     NUMBER("cfl", struct case_numerics, cfl, 0, R_LEFT_OPEN, 0, 1, 0.3, NULL),
     NUMBER("end_time", struct case_numerics, end_time, F_REQUIRED, R_POSITIVE, 0, 0, 0, "s"),
     NUMBER("damping", struct case_numerics, damping, 0, R_NONNEG, 0, 0, 0, "1/s"),

@@ -184,7 +184,7 @@ struct case_numerics {
     int tensor_smoothing;        /* smoothing: 0 isotropic (default), 1 tensor (an ellipsoid per
                                     particle, kernels/tensor_smoothing.cl) */
     int total_lagrangian;        /* formulation: 0 updated_lagrangian (default), 1 total */
-    double hourglass;            /* total Lagrangian hourglass control coefficient, default 10 */
+    double hourglass;            /* total Lagrangian hourglass control coefficient, default 0.1 */
     double cfl;                  /* default 0.3 */
     double end_time;             /* s, required */
     double damping;              /* 1/s, default 0 */
