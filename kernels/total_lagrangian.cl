@@ -96,8 +96,7 @@ __kernel void tl_correction(__global const vec *restrict pos0, __global const re
  * springs, stiffer than the material, pumped that noise into the
  * viscosity for ever (0.01 J in 16 us in a free 20 x 2 mm steel bar, none
  * in double precision). The displacement's rounding is that of u, not x;
- * what a body at rest keeps is C_i's rounding in F = B C (0.002 m/s in
- * that bar). */
+ * tl_deformation takes F itself as I + grad_X u for the same reason. */
 static inline realv tl_current_separation(realv big_xij, real u_j, realv u_i)
 {
     return (u_j - u_i) - big_xij;
@@ -149,13 +148,13 @@ static inline fullt tl_first_piola(real rho0_over_rho, real pressure, symt devia
     return fullt_store(a);
 }
 
-/* The end of tl_deformation for one particle: F^(n+1) = (sum_x) C_i +
+/* The end of tl_deformation for one particle: F^(n+1) = I + (sum_u) C_i +
  * dt dF/dt with dF/dt = (sum_w) C_i, L = dF/dt F_mid^-1, the material
  * update with L (material.cl) and A^(n+1) for the next step's momentum.
  * It writes only particle i's own state, none of what tl_deformation
  * reads of the neighbours. */
 static inline void tl_deformation_finish(
-    int i, real sum_x[3][3], real sum_w[3][3], const real dt, __global const symt *restrict csph,
+    int i, real sum_u[3][3], real sum_w[3][3], const real dt, __global const symt *restrict csph,
     __global real *restrict rho, __global const int *restrict material,
     __global const int *restrict flags, __global const vec *restrict pos,
     __global const vec *restrict vel_half, __constant const struct sph_material *materials,
@@ -164,12 +163,19 @@ static inline void tl_deformation_finish(
 {
     real c[3][3], f[3][3], f_rate[3][3], f_mid[3][3], f_mid_inv[3][3], l[3][3];
     symt_load(csph[i], c);
-    matrix_product(sum_x, c, f);
+    /* F = I + H, H = sum_j V0_j (u_j - u_i) (x) g_ij C_i: the same as
+     * sum_j V0_j (x_j - x_i) (x) g_ij C_i where C_i inverts the reference
+     * moment exactly, but I is exact where B C is I only to rounding (a
+     * body at rest kept a strain of that rounding, 0.002 m/s in a free
+     * steel bar), and where C_i fell back to I (matrix_invert_or_identity)
+     * a body at rest keeps F = I instead of the uncorrected moment */
+    matrix_product(sum_u, c, f);
     matrix_product(sum_w, c, f_rate);
 #pragma unroll
     for (int a = 0; a < 3; ++a)
 #pragma unroll
         for (int b = 0; b < 3; ++b) {
+            f[a][b] += a == b ? (real)1 : (real)0;
             f_mid[a][b] = f[a][b] + (real)0.5 * dt * f_rate[a][b];
             f[a][b] += dt * f_rate[a][b];
         }
@@ -189,7 +195,8 @@ static inline void tl_deformation_finish(
                                     deviatoric_stress[i], f, c);
 }
 
-/* F^n from the positions x^n, and its rate from the motion of this step,
+/* F^n from the displacements u^n (F = I + grad_X u), and its rate from the
+ * motion of this step,
  * w = v^(n+1/2) + v_xsph (the velocity integrate_drift moves particles
  * with), so that F^(n+1) = F^n + dt dF/dt is exactly the gradient of
  * x^(n+1). The material update gets L = dF/dt (F^n + dt/2 dF/dt)^-1, the
@@ -225,8 +232,8 @@ tl_deformation(__global const vec *restrict pos, __global const vec *restrict di
 #ifdef SPH_PART_CONTACT
     const realv parts = lane_parts(flags, &b, n);
 #endif
-    realv sum_x[3][3], sum_w[3][3];
-    tensor_zero_v(sum_x);
+    realv sum_u[3][3], sum_w[3][3];
+    tensor_zero_v(sum_u);
     tensor_zero_v(sum_w);
     FOR_EACH_LANE_NEIGHBOUR(b, j)
     {
@@ -236,14 +243,13 @@ tl_deformation(__global const vec *restrict pos, __global const vec *restrict di
             continue;
         const real volume = tl_reference_volume(mass, material, materials, j);
         const vec uj = displacement[j], wj = vel_half[j] + xsph_velocity[j];
-        realv x[3], w[3];
+        realv u[3], w[3];
 #pragma unroll
         for (int a = 0; a < 3; ++a) {
-            x[a] =
-                a < SPH_DIM ? tl_current_separation(big_xij[a], vec_get(uj, a), ui[a]) : (realv)0;
+            u[a] = a < SPH_DIM ? vec_get(uj, a) - ui[a] : (realv)0;
             w[a] = a < SPH_DIM ? vec_get(wj, a) - wi[a] : (realv)0;
         }
-        outer_add(sum_x, volume, x, grad);
+        outer_add(sum_u, volume, u, grad);
         outer_add(sum_w, volume, w, grad);
     }
     END_FOR_EACH_LANE_NEIGHBOUR(void) h;
@@ -251,7 +257,7 @@ tl_deformation(__global const vec *restrict pos, __global const vec *restrict di
         if (!lane_live(&b, l))
             continue;
         real sx[3][3], sw[3][3];
-        tensor_lane(sum_x, l, sx);
+        tensor_lane(sum_u, l, sx);
         tensor_lane(sum_w, l, sw);
         tl_deformation_finish(b.first + l, sx, sw, dt, csph, rho, material, flags, pos, vel_half,
                               materials, run, deformation_gradient, first_piola, MATERIAL_STATE);
