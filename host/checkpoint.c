@@ -174,7 +174,8 @@ void checkpoint_close(struct checkpoint *k)
 
 /* The device buffers beside the fields that a step reads before writing:
  * the sort keys (the lane loop reads them), the cell ranges, the ghosts'
- * lists and the projectile's state. NULL where not in use. */
+ * lists, the total Lagrangian contact search's list and the projectile's
+ * state. NULL where not in use. */
 struct named_buffer {
     const char *name;
     cl_mem *buffer;
@@ -184,7 +185,10 @@ struct named_buffer {
         {"sort_keys", &(s)->sort_keys}, {"cell_start", &(s)->cell_start},                          \
             {"cell_end", &(s)->cell_end}, {"cell_level", &(s)->cell_level},                        \
             {"ghost_source_id", &(s)->ghosts.source_id}, {"ghost_mask", &(s)->ghosts.mask},        \
-            {"ghost_index_of_id", &(s)->ghosts.index_of_id},                                       \
+            {"ghost_index_of_id", &(s)->ghosts.index_of_id}, {"contact_keys", &(s)->contact_keys}, \
+            {"contact_cell_start", &(s)->contact_cell_start},                                      \
+            {"contact_cell_end", &(s)->contact_cell_end},                                          \
+            {"contact_cell_part_bits", &(s)->contact_cell_part_bits},                              \
         {                                                                                          \
             "projectile_state", &(s)->projectile.state                                             \
         }                                                                                          \
@@ -253,6 +257,7 @@ void solver_checkpoint_records(struct solver *s, struct checkpoint *k, int load)
     CHECKPOINT_RECORD(k, "solver.", s->ghosts.count, load);
     CHECKPOINT_RECORD(k, "solver.", s->grid, load);
     CHECKPOINT_RECORD(k, "solver.", s->moved_since_sort, load);
+    CHECKPOINT_RECORD(k, "solver.", s->moved_since_contact_search, load);
     if (load && !k->failed && (s->n < s->n_real || s->n > s->capacity))
         checkpoint_fail(k, "an impossible particle count in", "solver.s->n");
     if (!k->failed)

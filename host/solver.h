@@ -236,7 +236,9 @@ struct solver {
     struct sph_run_params run;
     double skin;             /* grid margin as a fraction of the support */
     double moved_since_sort; /* bound on any particle's drift since the last sort, m */
-    double thickness_scale;  /* 2-D: thickness, so energies come out in J */
+    /* ... since the total Lagrangian contact search (HUGE_VAL: none yet) */
+    double moved_since_contact_search;
+    double thickness_scale; /* 2-D: thickness, so energies come out in J */
     int probe_count;
     struct projectile projectile;
 };

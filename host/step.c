@@ -114,6 +114,7 @@ int solver_create(struct solver *s, struct sph_device *dev, const struct sph_cas
     s->coarsest_level = solver_case_coarsest_level(c);
     s->dx = c->numerics.dx;
     s->skin = SPH_GRID_SKIN;
+    s->moved_since_contact_search = HUGE_VAL;
     s->thickness_scale = c->dimension != 2                    ? 1.0
                          : c->plane == SPH_PLANE_AXISYMMETRIC ? 2.0 * M_PI /* per radian */
                                                               : c->thickness;
@@ -449,9 +450,27 @@ static void tl_contact_search(struct solver *s)
     solver_launch(s, s->k.contact_cell_parts, (size_t)s->n, 0);
 }
 
+/* The contact search's list, searched again only once a particle may have
+ * left the cell it was keyed to by more than the walk's reach (SPH_GRID_
+ * SPLIT cells) less the contact's d (the lattice spacing): tl_part_contact
+ * walks the cells around each particle's current cell, so a pair closer
+ * than d is found while the other particle has drifted less than that
+ * since the search
+ * (moved_since_contact_search, a bound without a stored position). The
+ * list and the bound are checkpointed, so a resumed run searches at the
+ * same steps. */
+static void tl_contact_list_current(struct solver *s)
+{
+    const double reach = s->run.h * s->run.av_eta_crit;
+    if (s->moved_since_contact_search < 0.9 * (SPH_GRID_SPLIT * s->grid.cell_size - reach))
+        return;
+    tl_contact_search(s);
+    s->moved_since_contact_search = 0;
+}
+
 static void tl_part_contact(struct solver *s)
 {
-    tl_contact_search(s);
+    tl_contact_list_current(s);
     struct real4_arg a_origin;
     struct real_arg a_inv_cell;
     SET_ARGS(s, s->k.tl_part_contact, real4_value(s, &a_origin, "origin", s->grid.origin),
@@ -591,7 +610,7 @@ static void health_records(struct solver *s)
     struct real_arg a_dx;
     if (s->total_lagrangian && s->part_contact) {
         /* the other parts near each particle now (kernels/health.cl) */
-        tl_contact_search(s);
+        tl_contact_list_current(s);
         struct real4_arg a_origin;
         struct real_arg a_inv_cell;
         SET_ARGS(s, s->k.health_pairs, real_value(s, &a_dx, "dx", s->dx),
@@ -704,5 +723,6 @@ int solver_advance(struct solver *s, double dt, double dt_prev, const double loa
     /* no particle has drifted farther than the sum of the steps' largest
      * drift: a bound without a stored position per particle (16 B) */
     s->moved_since_sort += red->max_drift_speed * dt;
+    s->moved_since_contact_search += red->max_drift_speed * dt;
     return 0;
 }
