@@ -14,8 +14,9 @@
 #include "solver.h"
 
 /* 2: the energy ledger and the ballistics record the work of the force
- * holding a prescribed projectile (session 19) */
-#define SPH_CHECKPOINT_FORMAT 2
+ * holding a prescribed projectile (session 19); 3: the total Lagrangian
+ * contact search's list and its drift bound (session 42) */
+#define SPH_CHECKPOINT_FORMAT 3
 
 struct checkpoint {
     hid_t file;

@@ -299,6 +299,8 @@ int solver_sort(struct solver *s, char *error, size_t error_size)
         cell_ranges(s, s->k.cell_ranges, s->cell_start, s->cell_end);
         solver_gather_persistent(s);
         s->moved_since_sort = 0;
+        /* the contact list holds slots of the old order */
+        s->moved_since_contact_search = HUGE_VAL;
         ++s->sorts;
         solver_ghosts_reindex(s);
         if (s->graded)
@@ -428,8 +430,8 @@ static void tl_momentum(struct solver *s)
 }
 
 /* The contact of parts in the total Lagrangian form (kernels/
- * contact_current.cl): a cell list of the current positions, sorted at
- * every step on the reference grid's cells (particles outside its box sit
+ * contact_current.cl): a cell list of the current positions, sorted
+ * (tl_contact_list_current says when) on the reference grid's cells (particles outside its box sit
  * in its border cells) with the set of parts in each cell, then the
  * contact pass over it, which adds to what tl_momentum wrote. */
 static void tl_contact_search(struct solver *s)
@@ -461,8 +463,8 @@ static void tl_contact_search(struct solver *s)
  * same steps. */
 static void tl_contact_list_current(struct solver *s)
 {
-    const double reach = s->run.h * s->run.av_eta_crit;
-    if (s->moved_since_contact_search < 0.9 * (SPH_GRID_SPLIT * s->grid.cell_size - reach))
+    const double d = s->run.h * s->run.av_eta_crit; /* the lattice spacing */
+    if (s->moved_since_contact_search < 0.9 * (SPH_GRID_SPLIT * s->grid.cell_size - d))
         return;
     tl_contact_search(s);
     s->moved_since_contact_search = 0;

@@ -4,10 +4,11 @@
  * The total Lagrangian passes (total_lagrangian.cl) sum over the neighbours
  * a particle had at t = 0, searched once on the reference positions, so two
  * parts that start apart never meet there. Their contact needs the current
- * positions: at every step the particles' current cells are keyed and
- * sorted into a second cell list (contact_keys, contact_cell_start / end:
- * the same grid geometry as the reference one, host/step.c), which only
- * this pass reads, and for every pair of different parts closer than the
+ * positions: the particles' current cells are keyed and sorted into a
+ * second cell list (contact_keys, contact_cell_start / end: the same grid
+ * geometry as the reference one), again whenever a particle may have
+ * drifted out of its reach (host/step.c tl_contact_list_current), which
+ * this pass and the health records read, and for every pair of different parts closer than the
  * lattice spacing d it adds what pass 2 adds in the updated form
  * (pass2.cl, part_contact): the contact pressure
  *   dv_i/dt += -m_j 2 p_c / (rho_i rho_j) grad W_ij,
@@ -113,8 +114,10 @@ static inline void contact_block_box(struct lane_block *b, __global const vec *r
  * current cells around xi (for the health records: the reference cells
  * that health_pairs walks hold only the neighbours of t = 0): lowers
  * *nearest2 and sets *nearest (x_j - x_i) where one is closer. The list
- * may be one step old (the search runs at the step's start), which the
- * cells' skin covers. */
+ * may be many steps old (host/step.c tl_contact_list_current searches
+ * again once a particle may have drifted out of the walk's reach), which
+ * still finds every pair closer than the contact's d and a tenth of the
+ * reach's margin beyond. */
 static inline void contact_nearest_other_part(int i, vec xi, __global const vec *restrict pos,
                                               __global const int *restrict flags,
                                               __global const ulong *restrict contact_keys,
