@@ -77,10 +77,16 @@ static void read_signature(cl_kernel k, const char *function)
 
 /* Arguments that belong to the solver rather than to one launch (the run
  * parameters, materials, walls and the neighbour grid), bound by name like
- * the fields. */
+ * the fields. The grid's origin and inverse cell size are converted to the
+ * device precision here; clSetKernelArg copies them at once, so one static
+ * holder serves every launch. */
 static int solver_value(const struct solver *s, const char *name, struct arg *out)
 {
+    static struct real4_arg grid_origin;
+    static struct real_arg grid_inv_cell_size;
     const struct arg values[] = {
+        real4_value(s, &grid_origin, "grid_origin", s->grid.origin),
+        real_value(s, &grid_inv_cell_size, "grid_inv_cell_size", 1.0 / s->grid.cell_size),
         MEM("run", s->run_params),
         MEM("materials", s->materials),
         MEM("walls", s->walls),

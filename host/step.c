@@ -234,10 +234,7 @@ void solver_make_cell_buffers(struct solver *s, size_t bytes)
 
 static void sort_keys(struct solver *s)
 {
-    struct real4_arg origin;
-    struct real_arg inv_cell;
-    SET_ARGS(s, s->k.cell_keys, INT("n", s->n), real4_value(s, &origin, "origin", s->grid.origin),
-             real_value(s, &inv_cell, "inv_cell_size", 1.0 / s->grid.cell_size));
+    SET_ARGS(s, s->k.cell_keys, INT("n", s->n));
     solver_launch(s, s->k.cell_keys, (size_t)s->n, 0);
     solver_sort_keys(s, s->sort_keys, s->grid.cell_count);
 }
@@ -275,11 +272,9 @@ static void graded_reach(struct solver *s)
         solver_launch(s, s->k.coarser_spread, (size_t)rows, 0);
     }
     /* the gather spare (free after the gathers) holds the reaches */
-    struct real4_arg a_origin;
     struct real_arg a_cell;
     SET_ARGS(s, s->k.neighbour_reach, MEM("cell_coarser", s->cell_coarser[s->dim % 2]),
              real_value(s, &a_skin, "skin", s->skin),
-             real4_value(s, &a_origin, "origin", s->grid.origin),
              real_value(s, &a_cell, "cell_size", s->grid.cell_size), MEM("reach", s->gather_spare),
              INT("n", s->n));
     solver_launch(s, s->k.neighbour_reach, (size_t)s->n, 0);
@@ -436,11 +431,7 @@ static void tl_momentum(struct solver *s)
  * contact pass over it, which adds to what tl_momentum wrote. */
 static void tl_contact_search(struct solver *s)
 {
-    struct real4_arg a_origin;
-    struct real_arg a_inv_cell;
-    SET_ARGS(s, s->k.contact_cell_keys, INT("n", s->n),
-             real4_value(s, &a_origin, "origin", s->grid.origin),
-             real_value(s, &a_inv_cell, "inv_cell_size", 1.0 / s->grid.cell_size));
+    SET_ARGS(s, s->k.contact_cell_keys, INT("n", s->n));
     solver_launch(s, s->k.contact_cell_keys, (size_t)s->n, 0);
     solver_sort_keys(s, s->contact_keys, s->grid.cell_count);
     cell_ranges(s, s->k.contact_cell_ranges, s->contact_cell_start, s->contact_cell_end);
@@ -473,10 +464,7 @@ static void tl_contact_list_current(struct solver *s)
 static void tl_part_contact(struct solver *s)
 {
     tl_contact_list_current(s);
-    struct real4_arg a_origin;
-    struct real_arg a_inv_cell;
-    SET_ARGS(s, s->k.tl_part_contact, real4_value(s, &a_origin, "origin", s->grid.origin),
-             real_value(s, &a_inv_cell, "inv_cell_size", 1.0 / s->grid.cell_size), INT("n", s->n));
+    SET_ARGS(s, s->k.tl_part_contact, INT("n", s->n));
     solver_launch(s, s->k.tl_part_contact, pass_items(s), 0);
 }
 
@@ -609,19 +597,11 @@ static void refresh_ghost_positions(struct solver *s)
 static void health_records(struct solver *s)
 {
     refresh_ghost_positions(s);
+    if (s->total_lagrangian && s->part_contact)
+        tl_contact_list_current(s); /* the other parts near each particle now */
     struct real_arg a_dx;
-    if (s->total_lagrangian && s->part_contact) {
-        /* the other parts near each particle now (kernels/health.cl) */
-        tl_contact_list_current(s);
-        struct real4_arg a_origin;
-        struct real_arg a_inv_cell;
-        SET_ARGS(s, s->k.health_pairs, real_value(s, &a_dx, "dx", s->dx),
-                 MEM("records", s->gather_spare), INT("n", s->n),
-                 real4_value(s, &a_origin, "origin", s->grid.origin),
-                 real_value(s, &a_inv_cell, "inv_cell_size", 1.0 / s->grid.cell_size));
-    } else
-        SET_ARGS(s, s->k.health_pairs, real_value(s, &a_dx, "dx", s->dx),
-                 MEM("records", s->gather_spare), INT("n", s->n));
+    SET_ARGS(s, s->k.health_pairs, real_value(s, &a_dx, "dx", s->dx),
+             MEM("records", s->gather_spare), INT("n", s->n));
     solver_launch(s, s->k.health_pairs,
                   s->total_lagrangian ? (size_t)s->n : (size_t)solver_lane_blocks(s), 0);
 }

@@ -28,12 +28,13 @@
 /* reads pos; writes contact_keys: (current cell << 32) | slot. */
 __kernel void contact_cell_keys(__global const vec *restrict pos,
                                 __global ulong *restrict contact_keys, const int n,
-                                const real4 origin, const real inv_cell_size, const int4 grid_dims)
+                                const real4 grid_origin, const real grid_inv_cell_size,
+                                const int4 grid_dims)
 {
     const int i = get_global_id(0);
     if (i >= n)
         return;
-    const uint cell = cell_of_position(pos[i], origin, inv_cell_size, grid_dims);
+    const uint cell = cell_of_position(pos[i], grid_origin, grid_inv_cell_size, grid_dims);
     contact_keys[i] = ((ulong)cell << 32) | (ulong)(uint)i;
 }
 
@@ -103,8 +104,7 @@ static inline void contact_block_box(struct lane_block *b, __global const vec *r
     for (int l = 0; l < SPH_LANES; ++l) {
         if (!lane_live(b, l))
             continue;
-        const int4 c = grid_cell_coords(
-            (int)cell_of_position(pos[b->first + l], origin, inv_cell_size, grid_dims), grid_dims);
+        const int4 c = cell_coords_of_position(pos[b->first + l], origin, inv_cell_size, grid_dims);
         b->lo = min(b->lo, c);
         b->hi = max(b->hi, c);
     }
@@ -127,8 +127,7 @@ static inline void contact_nearest_other_part(int i, vec xi, __global const vec 
                                               const int4 grid_dims, real *nearest2, vec *nearest)
 {
     struct lane_block box;
-    box.lo = box.hi =
-        grid_cell_coords((int)cell_of_position(xi, origin, inv_cell_size, grid_dims), grid_dims);
+    box.lo = box.hi = cell_coords_of_position(xi, origin, inv_cell_size, grid_dims);
     LANE_CELL_WALK_IN(box, k, contact_cell_start, contact_cell_end, SPH_GRID_SPLIT)
     {
         const int j = (int)(contact_keys[k] & 0xffffffffu);
@@ -203,15 +202,15 @@ tl_part_contact(__global const vec *restrict pos, __global const vec *restrict v
                 const int4 grid_dims, __global const ulong *restrict contact_keys,
                 __global const int *restrict contact_cell_start,
                 __global const int *restrict contact_cell_end,
-                __global const int *restrict contact_cell_part_bits, const real4 origin,
-                const real inv_cell_size, __constant const struct sph_run_params *run,
+                __global const int *restrict contact_cell_part_bits, const real4 grid_origin,
+                const real grid_inv_cell_size, __constant const struct sph_run_params *run,
                 __global vec *restrict acceleration, __global real *restrict energy_rate,
                 __global real *restrict viscous_heating, const int n)
 {
     struct lane_block b;
     if (!lane_block_setup(&b, flags, sort_keys, grid_dims, n))
         return;
-    contact_block_box(&b, pos, origin, inv_cell_size, grid_dims);
+    contact_block_box(&b, pos, grid_origin, grid_inv_cell_size, grid_dims);
     const int reach = SPH_GRID_SPLIT; /* cells of the support: d is within */
     if (contact_block_alone(&b, flags, contact_cell_part_bits, grid_dims, reach))
         return;

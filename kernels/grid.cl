@@ -29,15 +29,21 @@ static inline uint cell_of_position(vec p, real4 origin, real inv_cell_size, int
     return (uint)((cz * grid_dims.y + cy) * grid_dims.x + cx);
 }
 
+/* ... as the cell's coordinates */
+static inline int4 cell_coords_of_position(vec p, real4 origin, real inv_cell_size, int4 grid_dims)
+{
+    return grid_cell_coords((int)cell_of_position(p, origin, inv_cell_size, grid_dims), grid_dims);
+}
+
 /* reads pos; writes sort_keys. */
 __kernel void grid_cell_keys(__global const vec *restrict pos, __global ulong *restrict sort_keys,
-                             const int n, const real4 origin, const real inv_cell_size,
+                             const int n, const real4 grid_origin, const real grid_inv_cell_size,
                              const int4 grid_dims)
 {
     const int i = get_global_id(0);
     if (i >= n)
         return;
-    const uint cell = cell_of_position(pos[i], origin, inv_cell_size, grid_dims);
+    const uint cell = cell_of_position(pos[i], grid_origin, grid_inv_cell_size, grid_dims);
     sort_keys[i] = ((ulong)cell << 32) | (ulong)(uint)i;
 }
 
@@ -389,7 +395,7 @@ __kernel void grid_neighbour_reach(__global const vec *restrict pos,
                                    __global const int *restrict cell_level,
                                    __global const int *restrict cell_coarser,
                                    __constant const struct sph_run_params *run, const real skin,
-                                   const real4 origin, const real cell_size,
+                                   const real4 grid_origin, const real cell_size,
                                    __global int *restrict reach, const int n)
 {
     const int i = get_global_id(0);
@@ -414,18 +420,19 @@ __kernel void grid_neighbour_reach(__global const vec *restrict pos,
         const int cz = home.z + dz;
         if (cz < 0 || cz >= grid_dims.z)
             continue;
-        const real gz = SPH_DIM == 3 ? gap_to_cell(vec_get(xi, 2), origin.z, cell_size, cz) : 0;
+        const real gz =
+            SPH_DIM == 3 ? gap_to_cell(vec_get(xi, 2), grid_origin.z, cell_size, cz) : 0;
         for (int dy = -wide; dy <= wide && !coarser_near; ++dy) {
             const int cy = home.y + dy;
             if (cy < 0 || cy >= grid_dims.y)
                 continue;
-            const real gy = gap_to_cell(xi.y, origin.y, cell_size, cy);
+            const real gy = gap_to_cell(xi.y, grid_origin.y, cell_size, cy);
             if (REACH_PRUNED && gy * gy + gz * gz >= limit2)
                 continue;
             const int row = (cz * grid_dims.y + cy) * grid_dims.x;
             for (int cx = max(home.x - wide, 0); cx <= min(home.x + wide, grid_dims.x - 1); ++cx) {
                 const int cell = row + cx;
-                const real gx = gap_to_cell(xi.x, origin.x, cell_size, cx);
+                const real gx = gap_to_cell(xi.x, grid_origin.x, cell_size, cx);
                 if (cell_level[cell] <= level ||
                     (REACH_PRUNED && gx * gx + gy * gy + gz * gz >= limit2))
                     continue;

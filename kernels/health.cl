@@ -118,8 +118,8 @@ static inline struct health_record health_record_of(
 #define TL_HEALTH_CONTACT_ARGS                                                                     \
     , __global const ulong *restrict contact_keys,                                                 \
         __global const int *restrict contact_cell_start,                                           \
-        __global const int *restrict contact_cell_end, const real4 origin,                         \
-        const real inv_cell_size
+        __global const int *restrict contact_cell_end, const real4 grid_origin,                    \
+        const real grid_inv_cell_size
 #else
 #define TL_HEALTH_CONTACT_ARGS
 #endif
@@ -164,8 +164,8 @@ __kernel void health_pairs(__global const vec *restrict pos, __global const real
     END_FOR_EACH_NEIGHBOUR
 #ifdef SPH_PART_CONTACT
     contact_nearest_other_part(i, xi, pos, flags, contact_keys, contact_cell_start,
-                               contact_cell_end, origin, inv_cell_size, grid_dims, &nearest2,
-                               &nearest);
+                               contact_cell_end, grid_origin, grid_inv_cell_size, grid_dims,
+                               &nearest2, &nearest);
 #endif
     real offset[3];
 #pragma unroll
