@@ -1100,6 +1100,11 @@ static int check_numerics(struct ctx *x, const struct frame *fr, void *base)
                     "expected epsilon 0 with formulation total_lagrangian (it has no tensile "
                     "instability and no artificial stress), got epsilon %g",
                     n->as_epsilon);
+    if (n->reference_update > 0 && !n->total_lagrangian)
+        return fail(x, line_of(fr, "reference_update"), subkey(x, "reference_update"),
+                    "expected 0 with formulation updated_lagrangian (the updated form's "
+                    "reference is the current configuration at every step), got %g",
+                    n->reference_update);
     return check_tensor_smoothing(x, fr, n);
 }
 
@@ -1497,6 +1502,7 @@ static const struct field numerics_fields[] = {
     ENUM("formulation", struct case_numerics, total_lagrangian, 0, 0, formulation_names, NULL),
     ENUM("smoothing", struct case_numerics, tensor_smoothing, 0, 0, smoothing_names, NULL),
     NUMBER("hourglass", struct case_numerics, hourglass, 0, R_NONNEG, 0, 0, 0.1, NULL),
+    NUMBER("reference_update", struct case_numerics, reference_update, 0, R_NONNEG, 0, 0, 0, NULL),
     NUMBER("cfl", struct case_numerics, cfl, 0, R_LEFT_OPEN, 0, 1, 0.3, NULL),
     NUMBER("end_time", struct case_numerics, end_time, F_REQUIRED, R_POSITIVE, 0, 0, 0, "s"),
     NUMBER("damping", struct case_numerics, damping, 0, R_NONNEG, 0, 0, 0, "1/s"),

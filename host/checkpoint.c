@@ -258,6 +258,7 @@ void solver_checkpoint_records(struct solver *s, struct checkpoint *k, int load)
     CHECKPOINT_RECORD(k, "solver.", s->grid, load);
     CHECKPOINT_RECORD(k, "solver.", s->moved_since_sort, load);
     CHECKPOINT_RECORD(k, "solver.", s->moved_since_contact_search, load);
+    CHECKPOINT_RECORD(k, "solver.", s->reference_updates, load);
     if (load && !k->failed && (s->n < s->n_real || s->n > s->capacity))
         checkpoint_fail(k, "an impossible particle count in", "solver.s->n");
     if (!k->failed)

@@ -15,8 +15,9 @@
 
 /* 2: the energy ledger and the ballistics record the work of the force
  * holding a prescribed projectile (session 19); 3: the total Lagrangian
- * contact search's list and its drift bound (session 42) */
-#define SPH_CHECKPOINT_FORMAT 3
+ * contact search's list and its drift bound (session 42); 4: the total
+ * Lagrangian reference's offset, density and update count (session 43) */
+#define SPH_CHECKPOINT_FORMAT 4
 
 struct checkpoint {
     hid_t file;

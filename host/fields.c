@@ -52,6 +52,15 @@ const struct field_info field_table[FIELD_COUNT] = {
                                     TL, TL, MIRROR_REFLECT, NULL},
     [FIELD_FIRST_PIOLA] = {"first_piola_corrected", "first_piola", ELEM_FULLT, 1, TL, TL,
                            MIRROR_REFLECT, NULL},
+    /* numerics.reference_update: pos0 is the reference and displacement is
+     * measured from it; this offset (reference minus initial position) is
+     * added back where the displacement is reported (the probe, snapshots) */
+    [FIELD_REFERENCE_OFFSET] = {"reference_offset", "reference_offset", ELEM_VEC, 1, TL, 0,
+                                MIRROR_NONE, NULL},
+    /* rho0 of the reference, V0 = m / rho0 (the material's density until
+     * the first reference update) */
+    [FIELD_REFERENCE_DENSITY] = {"reference_density", "reference_density", ELEM_REAL, 1, TL, TL,
+                                 MIRROR_COPY, NULL},
     /* the limited viscosity's reconstruction reads a neighbour's (pass 1
      * -> pass 2); both passes 1 use their own L at once */
     [FIELD_VELOCITY_GRADIENT] = {"velocity_gradient", "velocity_gradient", ELEM_FULLT, 1,
@@ -258,6 +267,12 @@ static int derive_columns(const struct solver *s, struct host_fields *o)
     double *von_mises = o->column[FIELD_COUNT + DERIVED_VON_MISES].data;
     double *h = o->column[FIELD_COUNT + DERIVED_SMOOTHING_LENGTH].data;
     int *part = o->column[FIELD_COUNT + DERIVED_PART].data;
+    /* the total Lagrangian form measures the displacement from its
+     * reference; the snapshot's is from the initial position */
+    const double *offset = HOST_REALS(o, FIELD_REFERENCE_OFFSET);
+    double *displacement = o->column[FIELD_DISPLACEMENT].data;
+    for (int q = 0; offset && displacement && q < 3 * o->n; ++q)
+        displacement[q] += offset[q];
     for (int q = 0; q < o->n; ++q) {
         const double *S = &dev[6 * q]; /* XX, YY, ZZ, XY, YZ, XZ */
         for (int a = 0; a < 6; ++a)
@@ -281,7 +296,7 @@ int solver_read_fields(struct solver *s, struct host_fields *o)
     int failed = read_rows(s, o, &row_of_slot);
     for (int f = 0; f < FIELD_COUNT && !failed; ++f) {
         const struct field_info *info = &field_table[f];
-        const int derived_input = f == FIELD_STRESS;
+        const int derived_input = f == FIELD_STRESS || f == FIELD_REFERENCE_OFFSET;
         if (!solver_field_used(s, (enum field)f) || (!info->units && !derived_input))
             continue;
         o->column[f] = (struct host_column){info->name, info->units, host_components(info->kind),

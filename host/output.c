@@ -810,6 +810,7 @@ int output_summary(struct output *o, const struct run_summary *s)
     if (s->has_hourglass) {
         json_number(f, "hourglass_work_J", s->hourglass_work_J, 0);
         json_number(f, "hourglass_work_fraction", s->hourglass_work_fraction, 0);
+        fprintf(f, "  \"reference_updates\": %ld,\n", s->reference_updates);
     }
     if (s->has_probe) {
         char key[SPH_NAME_MAX + 16];

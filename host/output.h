@@ -94,6 +94,7 @@ struct run_summary {
                                                      initial kinetic (or largest) energy */
     int has_hourglass;                            /* total Lagrangian: hourglass work reported */
     double hourglass_work_J, hourglass_work_fraction;
+    long reference_updates;    /* total Lagrangian: numerics.reference_update's updates */
     int has_wall;              /* impact figures against walls[0] */
     double final_length_m;     /* extent along the wall normal + dx/2 */
     double footprint_radius_m; /* largest distance from the axis in the first layer */

@@ -252,6 +252,7 @@ static int one_step(struct loop *L)
     if (L->t + L->dt > end)
         L->dt = fmax(end - L->t, 1e-30);
     char error[512];
+    const long updates = L->s->reference_updates;
     if (solver_advance(L->s, L->dt, L->dt_prev, load, &L->red, error, sizeof error)) {
         snprintf(L->message, sizeof L->message, "unstable at step %ld, t = %.6e s: %s", L->step,
                  L->t, error);
@@ -261,6 +262,12 @@ static int one_step(struct loop *L)
     L->t += L->dt;
     L->dt_prev = L->dt;
     ++L->step;
+    if (L->s->reference_updates > updates && !L->opt->quiet)
+        fprintf(stderr,
+                "%st = %.4e s, step %ld: largest Green strain %.4g reached numerics."
+                "reference_update (%g): the configuration of now is the reference (update %ld)\n",
+                isatty(fileno(stderr)) ? "\n" : "", L->t, L->step, L->red.max_distortion,
+                L->s->reference_update, L->s->reference_updates);
     ledger_step(&L->energy, &L->red, L->dt, projectile_energy(L));
     if (!L->s->projectile.enabled) /* else at history rows, when its energy is read */
         ledger_watch(&L->energy, &L->red, 0.0);
@@ -317,6 +324,7 @@ static void finish_summary(struct loop *L, struct run_summary *sum)
     sum->viscous_work_fraction = work_scale > 0 ? e->viscous_work / work_scale : 0;
     sum->hourglass_work_fraction = work_scale > 0 ? e->hourglass_work / work_scale : 0;
     sum->has_hourglass = L->s->total_lagrangian;
+    sum->reference_updates = L->s->reference_updates;
     sum->has_wall = L->c->wall_count > 0;
     sum->final_length_m = L->impact.final_length;
     sum->footprint_radius_m = L->impact.footprint_radius;
@@ -762,6 +770,13 @@ static int open_run(const struct run_options *opt, struct run_resources *r, char
         return snprintf(error, size,
                         "%s: bodies of different parts (bodies[].part) in the total Lagrangian "
                         "form run on one process (their contact is not carried between ranks)",
+                        opt->case_path) > 0;
+    /* an update re-sorts every rank's reference; the ranks' boxes and
+     * halos are not re-cut for it */
+    if (dist_size() > 1 && c->numerics.reference_update > 0)
+        return snprintf(error, size,
+                        "%s: numerics.reference_update runs on one process (the ranks' reference "
+                        "boxes are not re-cut at an update); set it to 0 or run without mpirun",
                         opt->case_path) > 0;
     if (device_open(opt->device, opt->profile, &r->dev, error, size))
         return 2;

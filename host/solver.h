@@ -49,6 +49,8 @@ enum field {
     FIELD_CSPH,
     FIELD_DEFORMATION_GRADIENT, /* total Lagrangian only */
     FIELD_FIRST_PIOLA,          /* total Lagrangian only: P C^T */
+    FIELD_REFERENCE_OFFSET,     /* total Lagrangian only: reference minus initial position, m */
+    FIELD_REFERENCE_DENSITY,    /* total Lagrangian only: density of the reference, kg/m^3 */
     FIELD_VELOCITY_GRADIENT,    /* the limited viscosity (pass 1 -> pass 2) */
     FIELD_AV_ALPHA,             /* the switch viscosity's alpha per particle */
     FIELD_AV_DIVERGENCE,        /* cullen_dehnen: the last step's div v, 1/s */
@@ -127,7 +129,7 @@ struct kernels {
         bucket_scatter, bucket_order; /* the sort */
     cl_kernel gather[ELEM_COUNT], copy[ELEM_COUNT];
     cl_kernel pass1, pass2, kick, drift, reduce, neighbour_count;
-    cl_kernel tl_correction, tl_deformation, tl_momentum;
+    cl_kernel tl_correction, tl_deformation, tl_momentum, tl_reference_reset;
     cl_kernel health_pairs, health;
     cl_kernel projectile_contact, projectile_advance, projectile_cavity;
     cl_kernel neighbour_reach, cell_max_level, coarser_seed, coarser_spread,
@@ -184,6 +186,7 @@ struct reduction {
     double wall_power; /* wall forces . velocities, W */
     double viscous_power;   /* heating by the artificial viscosity (in `internal`), W */
     double hourglass_power; /* work rate the hourglass forces take out of the motion, W */
+    double max_distortion;  /* total Lagrangian: largest |E| against the reference, 1 */
 };
 
 struct solver {
@@ -238,6 +241,11 @@ struct solver {
     double moved_since_sort; /* bound on any particle's drift since the last sort, m */
     /* ... since the total Lagrangian contact search (HUGE_VAL: none yet) */
     double moved_since_contact_search;
+    /* total Lagrangian: the |E| that makes the current configuration the
+     * reference (numerics.reference_update; 0 never), and how many times
+     * this run has done so */
+    double reference_update;
+    long reference_updates;
     double thickness_scale; /* 2-D: thickness, so energies come out in J */
     int probe_count;
     struct projectile projectile;

@@ -21,6 +21,7 @@ void solver_configure(struct solver *s, const struct sph_case *c)
     s->dim = c->dimension;
     s->double_precision = c->numerics.double_precision;
     s->total_lagrangian = c->numerics.total_lagrangian;
+    s->reference_update = c->numerics.reference_update;
     s->part_contact = case_has_part_contact(c);
     s->lanes = solver_lanes(c);
     s->lane_lists = solver_uses_lane_lists(c);
@@ -505,16 +506,21 @@ int solver_create_buffers(struct solver *s, const struct sph_case *c, const stru
     upload_ints(s, s->field[FIELD_MATERIAL], scene->material, s->n_real);
     int *ids = CHECKED_CALLOC((size_t)s->n_real, sizeof(int), "particle ids");
     double *temperature = CHECKED_CALLOC((size_t)s->n_real, sizeof(double), "temperatures");
-    for (int p = 0; ids && temperature && p < s->n_real; ++p) {
+    double *density = CHECKED_CALLOC((size_t)s->n_real, sizeof(double), "reference densities");
+    for (int p = 0; ids && temperature && density && p < s->n_real; ++p) {
         ids[p] = p;
         temperature[p] = c->materials[scene->material[p]].room_temperature;
+        density[p] = c->materials[scene->material[p]].density;
     }
-    if (ids && temperature) {
+    if (ids && temperature && density) {
         upload_ints(s, s->field[FIELD_ID], ids, s->n_real);
         upload_reals(s, s->field[FIELD_TEMPERATURE], temperature, (size_t)s->n_real, 1);
+        if (s->total_lagrangian)
+            upload_reals(s, s->field[FIELD_REFERENCE_DENSITY], density, (size_t)s->n_real, 1);
     }
     free(ids);
     free(temperature);
+    free(density);
     if (s->tensor_smoothing)
         upload_identity_metric(s);
     /* every other field starts at zero (solver_create_buffer); the
@@ -571,7 +577,7 @@ void solver_read_reals(struct solver *s, cl_mem m, size_t count, double *out)
                                      NULL, NULL));
         return;
     }
-    /* the per-step reductions (at most 64 groups x 20 slots) need no heap */
+    /* the per-step reductions (at most 64 groups x 21 slots) need no heap */
     float small[2048];
     float *tmp = count <= 2048 ? small : CHECKED_CALLOC(count, sizeof(float), "read-back of reals");
     if (!tmp)

@@ -41,6 +41,7 @@ static void step_kernels(struct solver *s, int make)
         {&k->tl_correction, s->total_lagrangian ? "tl_correction" : NULL, 0},
         {&k->tl_deformation, s->total_lagrangian ? "tl_deformation" : NULL, 0},
         {&k->tl_momentum, s->total_lagrangian ? "tl_momentum" : NULL, 0},
+        {&k->tl_reference_reset, s->reference_update > 0 ? "tl_reference_reset" : NULL, 0},
         {&k->health_pairs, "health_pairs", 0},
         {&k->health, "health_indicators", 0},
         {&k->neighbour_reach, s->graded ? "grid_neighbour_reach" : NULL, 0},
@@ -540,6 +541,7 @@ static void combine_partials(const struct solver *s, const double *v, struct red
         out->wall_power += p[SPH_RED_WALL_POWER];
         out->viscous_power += p[SPH_RED_VISCOUS_POWER];
         out->hourglass_power += p[SPH_RED_HOURGLASS_POWER];
+        out->max_distortion = fmax(out->max_distortion, p[SPH_RED_MAX_DISTORTION]);
     }
     out->bad_id = bad < (double)s->n_real ? (long)bad : -1;
     for (int a = 0; a < 3; ++a)
@@ -689,6 +691,23 @@ void solver_neighbour_counts(struct solver *s, int *count_by_id)
     free(id);
 }
 
+/* numerics.reference_update: the configuration of now becomes the total
+ * Lagrangian form's reference (kernels/total_lagrangian.cl,
+ * tl_reference_reset), its neighbours are searched again on it (a sort:
+ * the grid, the mirror particles and the lists follow the new reference)
+ * and tl_correction gives C and A for it. Taken after a step, where F is
+ * the gradient of the positions the drift wrote. */
+static int reference_update(struct solver *s, char *error, size_t error_size)
+{
+    SET_ARGS(s, s->k.tl_reference_reset, INT("n", s->n));
+    solver_launch(s, s->k.tl_reference_reset, (size_t)s->n, 0);
+    if (solver_sort(s, error, error_size))
+        return 1;
+    tl_correction(s);
+    ++s->reference_updates;
+    return 0;
+}
+
 int solver_advance(struct solver *s, double dt, double dt_prev, const double load[3],
                    struct reduction *red, char *error, size_t error_size)
 {
@@ -706,5 +725,7 @@ int solver_advance(struct solver *s, double dt, double dt_prev, const double loa
      * drift: a bound without a stored position per particle (16 B) */
     s->moved_since_sort += red->max_drift_speed * dt;
     s->moved_since_contact_search += red->max_drift_speed * dt;
+    if (s->reference_update > 0 && red->max_distortion >= s->reference_update)
+        return reference_update(s, error, error_size);
     return 0;
 }

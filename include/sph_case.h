@@ -185,6 +185,8 @@ struct case_numerics {
                                     particle, kernels/tensor_smoothing.cl) */
     int total_lagrangian;        /* formulation: 0 updated_lagrangian (default), 1 total */
     double hourglass;            /* total Lagrangian hourglass control coefficient, default 0.1 */
+    double reference_update;     /* total Lagrangian: the Green strain |E| at which the current
+                                    configuration becomes the reference; 0 never (default) */
     double cfl;                  /* default 0.3 */
     double end_time;             /* s, required */
     double damping;              /* 1/s, default 0 */

@@ -229,7 +229,9 @@ enum sph_reduce_slot {
     SPH_RED_WALL_POWER = 17,      /* sum f_wall . v, W */
     SPH_RED_VISCOUS_POWER = 18,   /* sum m (artificial-viscosity heating), W */
     SPH_RED_HOURGLASS_POWER = 19, /* sum m (hourglass power taken from the motion), W */
-    SPH_RED_SLOTS = 20
+    SPH_RED_MAX_DISTORTION = 20,  /* total Lagrangian: max Frobenius norm of the Green strain
+                                     E = (F^T F - I) / 2 against the reference, 1 */
+    SPH_RED_SLOTS = 21
 };
 
 /* Slots of the health-indicator reduction (kernels/health.cl,

@@ -8,14 +8,37 @@
  * power times dt is the exact work of the step's load.
  * reads: pos, displacement, vel_half, xsph_velocity, mass, energy, rho,
  * sound_speed, flags, id, wall_force (with walls), viscous_heating,
- * hourglass_power (total Lagrangian), smoothing_metric and
+ * hourglass_power, deformation_gradient and reference_offset (total
+ * Lagrangian: the largest Green strain, the probe's displacement from the
+ * initial position), smoothing_metric and
  * smoothing_reach (numerics.smoothing tensor: the time step's signal over
  * the shortest axis); writes: partials.
  */
 static inline bool slot_is_max(int slot)
 {
-    return slot == SPH_RED_MAX_SIGNAL || slot == SPH_RED_MAX_SPEED || slot == SPH_RED_MAX_DRIFT;
+    return slot == SPH_RED_MAX_SIGNAL || slot == SPH_RED_MAX_SPEED || slot == SPH_RED_MAX_DRIFT ||
+           slot == SPH_RED_MAX_DISTORTION;
 }
+
+#ifdef SPH_TOTAL_LAGRANGIAN
+/* |E|, the Frobenius norm of the Green strain E = (F^T F - I) / 2 against
+ * the reference: zero for a rigid motion, the measure numerics.
+ * reference_update compares with */
+static inline real green_strain_norm(fullt packed)
+{
+    real f[3][3];
+    fullt_load(packed, f);
+    real sum = 0;
+    for (int a = 0; a < SPH_DIM; ++a)
+        for (int b = 0; b < SPH_DIM; ++b) {
+            real e = a == b ? (real)-1 : (real)0;
+            for (int k = 0; k < SPH_DIM; ++k)
+                e += f[k][a] * f[k][b];
+            sum += e * e;
+        }
+    return (real)0.5 * sqrt(sum);
+}
+#endif
 
 __kernel __attribute__((reqd_work_group_size(REDUCE_WG, 1, 1))) void reduce_step(
     __global const vec *restrict pos, __global const vec *restrict displacement,
@@ -25,9 +48,10 @@ __kernel __attribute__((reqd_work_group_size(REDUCE_WG, 1, 1))) void reduce_step
     __global const int *restrict flags, __global const int *restrict id,
     __global const vec *restrict wall_force, const int wall_count,
     __global const real *restrict viscous_heating, __global const real *restrict hourglass_power,
-    __global const symt *restrict smoothing_metric, __global const real *restrict smoothing_reach,
-    __constant const struct sph_run_params *run, const real4 load_force,
-    __global real *restrict partials, const int n)
+    __global const fullt *restrict deformation_gradient,
+    __global const vec *restrict reference_offset, __global const symt *restrict smoothing_metric,
+    __global const real *restrict smoothing_reach, __constant const struct sph_run_params *run,
+    const real4 load_force, __global real *restrict partials, const int n)
 {
 #ifndef SPH_TENSOR_SMOOTHING
     (void)smoothing_metric;
@@ -67,13 +91,19 @@ __kernel __attribute__((reqd_work_group_size(REDUCE_WG, 1, 1))) void reduce_step
         mine[SPH_RED_KINETIC] += (real)0.5 * mass[i] * dot(v, v);
         mine[SPH_RED_INTERNAL] += mass[i] * energy[i];
         mine[SPH_RED_VISCOUS_POWER] += mass[i] * viscous_heating[i];
-#ifdef SPH_TOTAL_LAGRANGIAN /* hourglass_power exists only then */
+#ifdef SPH_TOTAL_LAGRANGIAN /* these fields exist only then */
         mine[SPH_RED_HOURGLASS_POWER] += mass[i] * hourglass_power[i];
+        mine[SPH_RED_MAX_DISTORTION] =
+            fmax(mine[SPH_RED_MAX_DISTORTION], green_strain_norm(deformation_gradient[i]));
+        const vec u_reference = reference_offset[i];
 #else
         (void)hourglass_power;
+        (void)deformation_gradient;
+        (void)reference_offset;
+        const vec u_reference = (vec)0;
 #endif
         if (flag & SPH_FLAG_PROBE) {
-            const vec u = displacement[i];
+            const vec u = displacement[i] + u_reference;
             mine[SPH_RED_PROBE_DISP_X] += u.x;
             mine[SPH_RED_PROBE_DISP_Y] += u.y;
 #if SPH_DIM == 3

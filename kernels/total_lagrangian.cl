@@ -35,24 +35,55 @@
  */
 
 #ifdef SPH_TOTAL_LAGRANGIAN
-/* V0_j = m_j / rho0_j */
+/* V0_j = m_j / rho0_j, rho0 the density of the reference (the material's
+ * until a reference update) */
 static inline real tl_reference_volume(__global const real *restrict mass,
-                                       __global const int *restrict material,
-                                       __constant const struct sph_material *materials, int j)
+                                       __global const real *restrict reference_density, int j)
 {
-    return mass[j] / materials[material[j]].density;
+    return mass[j] / reference_density[j];
 }
 
-/* C_i from the reference lattice; run once, before the first step, one
- * particle per work-item (ghosts too, so that no slot of the field is left
- * unset; a ghost's C is reflected from its owner's at every refresh).
- * reads: pos0, mass, material, flags (the parts); writes: csph (C_i). */
-__kernel void tl_correction(__global const vec *restrict pos0, __global const real *restrict mass,
-                            __global const int *restrict material,
-                            __global const int *restrict flags, GRID_ARGS,
-                            __constant const struct sph_material *materials,
-                            __constant const struct sph_run_params *run,
-                            __global symt *restrict csph, const int n)
+/* A = P C^T with P = J sigma F^-T, J = rho0 / rho (the density carries the
+ * out-of-plane stretch in plane stress, so J is the volume ratio of the
+ * slice), of particle i's stress after its material update. */
+static inline fullt tl_first_piola(real rho0_over_rho, real pressure, symt deviatoric_stress,
+                                   real f[3][3], real c[3][3])
+{
+    real sigma[3][3], f_inv[3][3], f_inv_t[3][3], c_t[3][3], p[3][3], a[3][3];
+    total_stress(pressure, deviatoric_stress, sigma);
+    matrix_invert_or_identity(f, f_inv);
+#pragma unroll
+    for (int r = 0; r < 3; ++r)
+#pragma unroll
+        for (int q = 0; q < 3; ++q) {
+            f_inv_t[r][q] = f_inv[q][r];
+            c_t[r][q] = c[q][r];
+        }
+    matrix_product(sigma, f_inv_t, p);
+    matrix_product(p, c_t, a);
+#pragma unroll
+    for (int r = 0; r < 3; ++r)
+#pragma unroll
+        for (int q = 0; q < 3; ++q)
+            a[r][q] *= rho0_over_rho;
+    return fullt_store(a);
+}
+
+/* C_i from the reference lattice, and A_i = P_i C_i^T with F_i = I (the
+ * reference is the configuration of now: P = J sigma, J = rho0 / rho);
+ * run before the first step and after every reference update
+ * (tl_reference_reset), one particle per work-item (ghosts too, so that no
+ * slot of the field is left unset; a ghost's C is reflected from its
+ * owner's at every refresh).
+ * reads: pos0, mass, reference_density, rho, pressure, deviatoric_stress,
+ * flags (the parts); writes: csph (C_i), first_piola. */
+__kernel void
+tl_correction(__global const vec *restrict pos0, __global const real *restrict mass,
+              __global const real *restrict reference_density, __global const real *restrict rho,
+              __global const real *restrict pressure,
+              __global const symt *restrict deviatoric_stress, __global const int *restrict flags,
+              GRID_ARGS, __constant const struct sph_run_params *run, __global symt *restrict csph,
+              __global fullt *restrict first_piola, const int n)
 {
     const int i = get_global_id(0);
     if (i >= n)
@@ -73,7 +104,7 @@ __kernel void tl_correction(__global const vec *restrict pos0, __global const re
 #endif
         if (j != i && r2 < support2) {
             /* - V0_j X_ij (x) g_ij: the moment of X_j - X_i */
-            const real s = -tl_reference_volume(mass, material, materials, j) *
+            const real s = -tl_reference_volume(mass, reference_density, j) *
                            lane_of(kernel_dwdr_over_r_q((realv)(sqrt(r2) * inv_h), inv_h), 0);
 #pragma unroll
             for (int p = 0; p < SPH_DIM; ++p)
@@ -86,6 +117,37 @@ __kernel void tl_correction(__global const vec *restrict pos0, __global const re
     real c[3][3];
     csph_correction(moment, c);
     csph[i] = symt_store(c); /* symmetric: grad W_ij is along X_ij */
+    real identity[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    first_piola[i] = tl_first_piola(reference_density[i] / rho[i], pressure[i],
+                                    deviatoric_stress[i], identity, c);
+}
+
+/* numerics.reference_update: the configuration of now becomes the
+ * reference (an updated reference configuration, as LAMMPS' SMD package's
+ * total Lagrangian pair style offers for large strains): X := x, u := 0,
+ * rho0 := rho, F := I, and the reference offset (X minus the initial
+ * position) takes the displacement, so that the reported displacement
+ * goes on from the initial position. The stress (Cauchy, integrated with
+ * L) and every material variable carry over; the host then sorts, builds
+ * the reference neighbours again and runs tl_correction.
+ * updates: pos0, displacement, reference_offset, reference_density,
+ * deformation_gradient; reads pos, rho. */
+__kernel void tl_reference_reset(__global const vec *restrict pos, __global vec *restrict pos0,
+                                 __global vec *restrict displacement,
+                                 __global vec *restrict reference_offset,
+                                 __global const real *restrict rho,
+                                 __global real *restrict reference_density,
+                                 __global fullt *restrict deformation_gradient, const int n)
+{
+    const int i = get_global_id(0);
+    if (i >= n)
+        return;
+    reference_offset[i] += displacement[i];
+    pos0[i] = pos[i];
+    displacement[i] = (vec)0;
+    reference_density[i] = rho[i];
+    real identity[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    deformation_gradient[i] = fullt_store(identity);
 }
 
 /* x_j - x_i of a pair, as X_j - X_i + (u_j - u_i) from X_ij = X_i - X_j
@@ -122,32 +184,6 @@ static inline maskv tl_reference_pair(realv big_xi[3], vec big_xj, maskv own_par
     return near;
 }
 
-/* A = P C^T with P = J sigma F^-T, J = rho0 / rho (the density carries the
- * out-of-plane stretch in plane stress, so J is the volume ratio of the
- * slice), of particle i's stress after its material update. */
-static inline fullt tl_first_piola(real rho0_over_rho, real pressure, symt deviatoric_stress,
-                                   real f[3][3], real c[3][3])
-{
-    real sigma[3][3], f_inv[3][3], f_inv_t[3][3], c_t[3][3], p[3][3], a[3][3];
-    total_stress(pressure, deviatoric_stress, sigma);
-    matrix_invert_or_identity(f, f_inv);
-#pragma unroll
-    for (int r = 0; r < 3; ++r)
-#pragma unroll
-        for (int q = 0; q < 3; ++q) {
-            f_inv_t[r][q] = f_inv[q][r];
-            c_t[r][q] = c[q][r];
-        }
-    matrix_product(sigma, f_inv_t, p);
-    matrix_product(p, c_t, a);
-#pragma unroll
-    for (int r = 0; r < 3; ++r)
-#pragma unroll
-        for (int q = 0; q < 3; ++q)
-            a[r][q] *= rho0_over_rho;
-    return fullt_store(a);
-}
-
 /* The end of tl_deformation for one particle: F^(n+1) = I + (sum_u) C_i +
  * dt dF/dt with dF/dt = (sum_w) C_i, L = dF/dt F_mid^-1, the material
  * update with L (material.cl) and A^(n+1) for the next step's momentum.
@@ -155,11 +191,12 @@ static inline fullt tl_first_piola(real rho0_over_rho, real pressure, symt devia
  * reads of the neighbours. */
 static inline void tl_deformation_finish(
     int i, real sum_u[3][3], real sum_w[3][3], const real dt, __global const symt *restrict csph,
-    __global real *restrict rho, __global const int *restrict material,
-    __global const int *restrict flags, __global const vec *restrict pos,
-    __global const vec *restrict vel_half, __constant const struct sph_material *materials,
-    __constant const struct sph_run_params *run, __global fullt *restrict deformation_gradient,
-    __global fullt *restrict first_piola, MATERIAL_STATE_ARGS)
+    __global real *restrict rho, __global const real *restrict reference_density,
+    __global const int *restrict material, __global const int *restrict flags,
+    __global const vec *restrict pos, __global const vec *restrict vel_half,
+    __constant const struct sph_material *materials, __constant const struct sph_run_params *run,
+    __global fullt *restrict deformation_gradient, __global fullt *restrict first_piola,
+    MATERIAL_STATE_ARGS)
 {
     real c[3][3], f[3][3], f_rate[3][3], f_mid[3][3], f_mid_inv[3][3], l[3][3];
     symt_load(csph[i], c);
@@ -191,8 +228,8 @@ static inline void tl_deformation_finish(
         material_update_particle(i, l, -rho[i] * divergence, dt, rho, material, flags, pos,
                                  vel_half, materials, run, MATERIAL_STATE);
     rho[i] = rho_new;
-    first_piola[i] = tl_first_piola(materials[material[i]].density / rho_new, pressure[i],
-                                    deviatoric_stress[i], f, c);
+    first_piola[i] =
+        tl_first_piola(reference_density[i] / rho_new, pressure[i], deviatoric_stress[i], f, c);
 }
 
 /* F^n from the displacements u^n (F = I + grad_X u), and its rate from the
@@ -203,16 +240,16 @@ static inline void tl_deformation_finish(
  * mid-step velocity gradient. One work-item per lane block
  * (kernels/lanes.cl); the blocks walk the reference grid.
  * reads: pos (the material update's), displacement, pos0, vel_half,
- * xsph_velocity, mass, rho, material, flags, csph, energy_rate;
- * writes: deformation_gradient (F^(n+1)), rho, first_piola;
+ * xsph_velocity, mass, reference_density, rho, material, flags, csph,
+ * energy_rate; writes: deformation_gradient (F^(n+1)), rho, first_piola;
  * updates: the material state (MATERIAL_STATE_ARGS). */
 __kernel void
 tl_deformation(__global const vec *restrict pos, __global const vec *restrict displacement,
                __global const vec *restrict pos0, __global const vec *restrict vel_half,
                __global const vec *restrict xsph_velocity, __global const real *restrict mass,
-               __global real *restrict rho, __global const int *restrict material,
-               __global const int *restrict flags, LANE_GRID_ARGS,
-               __constant const struct sph_material *materials,
+               __global const real *restrict reference_density, __global real *restrict rho,
+               __global const int *restrict material, __global const int *restrict flags,
+               LANE_GRID_ARGS, __constant const struct sph_material *materials,
                __constant const struct sph_run_params *run, __global const symt *restrict csph,
                const real dt, __global fullt *restrict deformation_gradient,
                __global fullt *restrict first_piola, MATERIAL_STATE_ARGS, const int n)
@@ -241,7 +278,7 @@ tl_deformation(__global const vec *restrict pos, __global const vec *restrict di
         if (!lanes_any(tl_reference_pair(big_xi, pos0[j], OWN_PART(parts, j), support2, inv_h,
                                          big_xij, &r02, &q0, grad)))
             continue;
-        const real volume = tl_reference_volume(mass, material, materials, j);
+        const real volume = tl_reference_volume(mass, reference_density, j);
         const vec uj = displacement[j], wj = vel_half[j] + xsph_velocity[j];
         realv u[3], w[3];
 #pragma unroll
@@ -259,8 +296,9 @@ tl_deformation(__global const vec *restrict pos, __global const vec *restrict di
         real sx[3][3], sw[3][3];
         tensor_lane(sum_u, l, sx);
         tensor_lane(sum_w, l, sw);
-        tl_deformation_finish(b.first + l, sx, sw, dt, csph, rho, material, flags, pos, vel_half,
-                              materials, run, deformation_gradient, first_piola, MATERIAL_STATE);
+        tl_deformation_finish(b.first + l, sx, sw, dt, csph, rho, reference_density, material,
+                              flags, pos, vel_half, materials, run, deformation_gradient,
+                              first_piola, MATERIAL_STATE);
     }
 }
 
@@ -272,15 +310,14 @@ struct tl_lanes_i {
     real beta_per_alpha; /* SPH_AV_SWITCH: the case's beta / alpha */
 };
 
-static inline void
-tl_gather(struct tl_lanes_i *I, const struct lane_block *b, int n,
-          __global const vec *restrict displacement, __global const vec *restrict pos0,
-          __global const vec *restrict vel, __global const real *restrict rho,
-          __global const fullt *restrict first_piola,
-          __global const fullt *restrict deformation_gradient,
-          __global const real *restrict sound_speed, __global const int *restrict material,
-          __global const real *restrict av_alpha, __constant const struct sph_material *materials,
-          __constant const struct sph_run_params *run)
+static inline void tl_gather(
+    struct tl_lanes_i *I, const struct lane_block *b, int n,
+    __global const vec *restrict displacement, __global const vec *restrict pos0,
+    __global const vec *restrict vel, __global const real *restrict rho,
+    __global const real *restrict reference_density, __global const fullt *restrict first_piola,
+    __global const fullt *restrict deformation_gradient, __global const real *restrict sound_speed,
+    __global const int *restrict material, __global const real *restrict av_alpha,
+    __constant const struct sph_material *materials, __constant const struct sph_run_params *run)
 {
     lane_positions(pos0, b, n, I->x0);
     gather_vec(displacement, b, n, I->u);
@@ -289,13 +326,15 @@ tl_gather(struct tl_lanes_i *I, const struct lane_block *b, int n,
     gather_fullt(deformation_gradient, b, n, I->f);
     I->rho = SPH_SELECT((realv)1, gather_real(rho, b, n), b->live);
     I->c = gather_real(sound_speed, b, n);
-    /* alpha E / rho0_i, E = 9 K G / (3 K + G) */
+    /* alpha E / rho0_i, E = 9 K G / (3 K + G), rho0 the reference's (so
+     * that m_i times it times V0_j, the pair's force, is the same from
+     * either side after a reference update) */
     lanes_union hourglass;
     for (int l = 0; l < SPH_LANES; ++l) {
-        __constant const struct sph_material *m =
-            &materials[b->first + l < n ? material[b->first + l] : 0];
+        const int i = b->first + l < n ? b->first + l : b->first;
+        __constant const struct sph_material *m = &materials[material[i]];
         hourglass.s[l] = run->hourglass * (real)9 * m->bulk_modulus * m->shear_modulus /
-                         (((real)3 * m->bulk_modulus + m->shear_modulus) * m->density);
+                         (((real)3 * m->bulk_modulus + m->shear_modulus) * reference_density[i]);
     }
     I->hourglass = hourglass.v;
     switch_lanes(av_alpha, b, n, run, &I->alpha, &I->beta_per_alpha);
@@ -312,7 +351,8 @@ tl_gather(struct tl_lanes_i *I, const struct lane_block *b, int n,
  * of `near` whose pair is apart (x_ij != 0). */
 static inline void tl_hourglass(const struct tl_lanes_i *I, fullt f_j_packed, const realv xij[3],
                                 const realv big_xij[3], realv r02, realv w0, real volume_j,
-                                const realv vij[3], maskv near, realv acc[3], realv *power)
+                                real spacing2, const realv vij[3], maskv near, realv acc[3],
+                                realv *power)
 {
     real f_j[3][3];
     fullt_load(f_j_packed, f_j);
@@ -330,10 +370,16 @@ static inline void tl_hourglass(const struct tl_lanes_i *I, fullt f_j_packed, co
             predicted += (real)0.5 * (I->f[a][c] + f_j[a][c]) * big_xij[c];
         mismatch_along += (predicted - xij[a]) * xij[a];
     }
-    /* the modulus over r, so that a = s x_ij: one division */
+    /* the modulus over r, so that a = s x_ij: one division. X_ij^2 is
+     * taken no smaller than the lattice spacing's square: on the first
+     * lattice no pair is closer, but a reference taken by numerics.
+     * reference_update from a body squashed threefold has pairs at dx / 3,
+     * whose springs, nine times stiffer, outran the time step (the 3-D
+     * 42CrMo4 bar at 0.4 mm: the springs fed 2-16% of the impact energy
+     * into the motion at alpha 0.1-0.3, and blew up at 0.01) */
     const realv s = SPH_SELECT((realv)0,
                                I->hourglass * volume_j * w0 * mismatch_along /
-                                   SPH_SELECT((realv)1, r02 * r2, apart),
+                                   SPH_SELECT((realv)1, fmax(r02, (realv)spacing2) * r2, apart),
                                apart);
     /* a = s x_ij: a stretched pair (mismatch_along < 0) pulls i towards j */
 #pragma unroll
@@ -383,8 +429,7 @@ tl_viscosity(const struct tl_lanes_i *I, const realv xij[3], const realv vij[3],
 static inline void
 tl_momentum_store(const struct lane_block *b, const realv acc[3], const realv acc_extra[3],
                   realv de, realv hourglass_rate, const realv xsph[3],
-                  __global const int *restrict material,
-                  __constant const struct sph_material *materials,
+                  __global const real *restrict reference_density,
                   __constant const struct sph_run_params *run, __global vec *restrict acceleration,
                   __global real *restrict energy_rate, __global real *restrict viscous_heating,
                   __global real *restrict hourglass_power, __global vec *restrict xsph_velocity)
@@ -393,7 +438,7 @@ tl_momentum_store(const struct lane_block *b, const realv acc[3], const realv ac
         if (!lane_live(b, l))
             continue;
         const int i = b->first + l;
-        const real inv_rho0 = (real)1 / materials[material[i]].density;
+        const real inv_rho0 = (real)1 / reference_density[i];
         acceleration[i] =
             inv_rho0 * vec_make(lane_of(acc[0], l), lane_of(acc[1], l), lane_of(acc[2], l)) +
             vec_make(lane_of(acc_extra[0], l), lane_of(acc_extra[1], l), lane_of(acc_extra[2], l));
@@ -408,37 +453,38 @@ tl_momentum_store(const struct lane_block *b, const realv acc[3], const realv ac
 /* Pass 2 of the total Lagrangian form: stress force, artificial viscosity
  * (on the current pair geometry, as in the updated form), hourglass control,
  * XSPH. One work-item per lane block (kernels/lanes.cl).
- * reads: displacement, pos0, vel, rho, mass, first_piola, deformation_gradient,
+ * reads: displacement, pos0, vel, rho, mass, reference_density, first_piola,
+ * deformation_gradient,
  * sound_speed, material, av_alpha (SPH_AV_SWITCH: the pair's alpha is the
  * mean of the particles', beta in the case's ratio to it, as in pass 2);
  * writes: acceleration, energy_rate, viscous_heating
  * (the viscosity's part of energy_rate), hourglass_power (W/kg: the work
  * the hourglass forces take out of the motion, -1/2 sum_j v_ij . a_hg,ij,
  * which is not heat and is kept apart for the energy ledger), xsph_velocity. */
-__kernel void
-tl_momentum(__global const vec *restrict displacement, __global const vec *restrict pos0,
-            __global const vec *restrict vel, __global const real *restrict rho,
-            __global const real *restrict mass, __global const fullt *restrict first_piola,
-            __global const fullt *restrict deformation_gradient,
-            __global const real *restrict sound_speed, __global const int *restrict material,
-            __global const int *restrict flags, __global const real *restrict av_alpha,
-            LANE_GRID_ARGS, __constant const struct sph_material *materials,
-            __constant const struct sph_run_params *run, __global vec *restrict acceleration,
-            __global real *restrict energy_rate, __global real *restrict viscous_heating,
-            __global real *restrict hourglass_power, __global vec *restrict xsph_velocity,
-            const int n)
+__kernel void tl_momentum(
+    __global const vec *restrict displacement, __global const vec *restrict pos0,
+    __global const vec *restrict vel, __global const real *restrict rho,
+    __global const real *restrict mass, __global const real *restrict reference_density,
+    __global const fullt *restrict first_piola, __global const fullt *restrict deformation_gradient,
+    __global const real *restrict sound_speed, __global const int *restrict material,
+    __global const int *restrict flags, __global const real *restrict av_alpha, LANE_GRID_ARGS,
+    __constant const struct sph_material *materials, __constant const struct sph_run_params *run,
+    __global vec *restrict acceleration, __global real *restrict energy_rate,
+    __global real *restrict viscous_heating, __global real *restrict hourglass_power,
+    __global vec *restrict xsph_velocity, const int n)
 {
     struct lane_block b;
     if (!lane_block_setup(&b, flags, sort_keys, grid_dims, n))
         return;
     LANE_PASS_CONSTANTS;
     struct tl_lanes_i I;
-    tl_gather(&I, &b, n, displacement, pos0, vel, rho, first_piola, deformation_gradient,
-              sound_speed, material, av_alpha, materials, run);
+    tl_gather(&I, &b, n, displacement, pos0, vel, rho, reference_density, first_piola,
+              deformation_gradient, sound_speed, material, av_alpha, materials, run);
     realv acc[3] = {(realv)0, (realv)0, (realv)0};       /* the stress force times rho0_i */
     realv acc_extra[3] = {(realv)0, (realv)0, (realv)0}; /* viscosity, hourglass */
     realv xsph[3] = {(realv)0, (realv)0, (realv)0};
     realv de = (realv)0, hourglass_rate = (realv)0;
+    const real spacing = run->h * run->av_eta_crit, spacing2 = spacing * spacing; /* dx^2 */
 #ifdef SPH_PART_CONTACT
     const realv parts = lane_parts(flags, &b, n);
 #endif
@@ -449,7 +495,7 @@ tl_momentum(__global const vec *restrict displacement, __global const vec *restr
                                                   inv_h, big_xij, &r02, &q0, grad);
         if (!lanes_any(reference))
             continue;
-        const real volume_j = tl_reference_volume(mass, material, materials, j);
+        const real volume_j = tl_reference_volume(mass, reference_density, j);
         real a_j[3][3];
         fullt_load(first_piola[j], a_j);
         /* V0_j (A_i + A_j) g_ij */
@@ -473,10 +519,10 @@ tl_momentum(__global const vec *restrict displacement, __global const vec *restr
                      reference, acc_extra, &de, xsph);
         if (run->hourglass > 0)
             tl_hourglass(&I, deformation_gradient[j], xij, big_xij, r02, kernel_w_q(q0, inv_h),
-                         volume_j, vij, reference, acc_extra, &hourglass_rate);
+                         volume_j, spacing2, vij, reference, acc_extra, &hourglass_rate);
     }
     END_FOR_EACH_LANE_NEIGHBOUR
-    tl_momentum_store(&b, acc, acc_extra, de, hourglass_rate, xsph, material, materials, run,
+    tl_momentum_store(&b, acc, acc_extra, de, hourglass_rate, xsph, reference_density, run,
                       acceleration, energy_rate, viscous_heating, hourglass_power, xsph_velocity);
 }
 
