@@ -96,7 +96,8 @@ __kernel void integrate_kick(__global vec *restrict vel, __global vec *restrict 
  * a step, while the displacement keeps its increments to N_steps * 2^-24.
  * A particle that would come within a quarter of its spacing of a symmetry
  * plane (side[a] = +1 or -1 on the plane's axis a, 0 elsewhere; the gap is
- * plane_gap times its level's spacing scale) moving towards it is reflected
+ * plane_gap times its level's spacing scale; 0 in the total Lagrangian
+ * form, host/step.c) moving towards it is reflected
  * back off that gap and its normal velocity reversed, as its mirror image
  * would meet it: material swept onto the axis of an axisymmetric case (a
  * cavity closing) must not pass it, and a particle may not sit on the plane
