@@ -840,8 +840,9 @@ void case_note_welding(const struct sph_case *c, FILE *out)
                         p->name, q->name, p->part,
                         c->numerics.total_lagrangian
                             ? "in the total Lagrangian form they pass through each other where "
-                              "they meet (only the neighbours of t = 0 interact), and are one "
-                              "continuum where they touch at t = 0"
+                              "they meet (only the neighbours of t = 0 interact, until a "
+                              "numerics.reference_update makes those near then neighbours), and "
+                              "are one continuum where they touch at t = 0"
                             : "where they meet they act as one continuum and weld");
         }
 }

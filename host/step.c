@@ -338,7 +338,8 @@ static void lane_list_launch(struct solver *s, cl_mem at, double reach_scale, cl
 /* The candidates within reach_scale x the pair's support of some lane at
  * the sort: 1 + skin in the updated form (the grid's margin: the list
  * serves until the next sort, as the cells do), 1 in the total Lagrangian
- * form (its reference positions never move); 1e-4 more for the rounding of
+ * form (its reference positions move only at a reference update, which
+ * sorts); 1e-4 more for the rounding of
  * the distance tests, so that the list holds every candidate a pass's test
  * can accept. One walk per sort and one read-back (the entries claimed and
  * the blocks left to write; kernels/lanes.cl, lane_list_build). A list too
@@ -718,7 +719,8 @@ static int reference_update(struct solver *s, char *error, size_t error_size)
 int solver_advance(struct solver *s, double dt, double dt_prev, const double load[3],
                    struct reduction *red, char *error, size_t error_size)
 {
-    /* the total Lagrangian form keeps the reference neighbours: one sort */
+    /* the total Lagrangian form keeps the reference neighbours: it sorts
+     * only at the start and at a reference update (below) */
     const int moved = s->moved_since_sort >= 0.5 * s->skin * s->run.support;
     if (!s->total_lagrangian && moved && solver_sort(s, error, error_size))
         return 1;

@@ -112,7 +112,7 @@ static inline void contact_block_box(struct lane_block *b, __global const vec *r
 
 /* The nearest particle of another part to particle i at xi, through the
  * current cells around xi (for the health records: the reference cells
- * that health_pairs walks hold only the neighbours of t = 0): lowers
+ * that health_pairs walks hold only the reference neighbours): lowers
  * *nearest2 and sets *nearest (x_j - x_i) where one is closer. The list
  * may be many steps old (host/step.c tl_contact_list_current searches
  * again once a particle may have drifted out of the walk's reach), which

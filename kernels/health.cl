@@ -7,8 +7,9 @@
 #ifdef SPH_TOTAL_LAGRANGIAN
 /* Neighbours of each particle for the integrity measure (particles that
  * lost more than a third of their initial neighbours) in the total
- * Lagrangian form, where the interacting pairs never change: reference
- * neighbours (within the support at t = 0) whose separation has not more
+ * Lagrangian form, where the interacting pairs change only at a reference
+ * update: reference neighbours (within the support on the reference:
+ * pos0) whose separation has not more
  * than doubled, so that only a tear, not the finite strain of a whole body,
  * counts as a loss. The updated Lagrangian form counts the neighbours
  * within the support, health_pairs' records (host/step.c

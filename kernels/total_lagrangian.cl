@@ -1,19 +1,22 @@
 /*
  * Total Lagrangian SPH (numerics.formulation: total_lagrangian) for solids
- * that stay whole: every derivative is taken in the reference (initial)
- * configuration, over the neighbours a particle had at t = 0. Bonet & Lok
+ * that stay whole: every derivative is taken in the reference configuration
+ * (the initial one, or the one of the last numerics.reference_update),
+ * over the neighbours a particle had there. Bonet & Lok
  * (1999) and Vidal, Bonet & Huerta (2007) give the formulation; Ganzenmueller
  * (2015, Comput. Methods Appl. Mech. Engrg. 286) the hourglass control.
- * Because neighbours and kernel gradients never change, the method has no
- * tensile instability (Belytschko et al. 2000) and needs no artificial
- * stress; the price is that it cannot follow fracture or mixing.
+ * Because neighbours and kernel gradients do not change between updates,
+ * the method has no tensile instability (Belytschko et al. 2000) and needs
+ * no artificial stress; the price is that it cannot follow fracture or
+ * mixing, and each reference update brings back some of the updated form's
+ * behaviour (docs/validation_taylor.md).
  * With SPH_PART_CONTACT (bodies of different bodies[].part) a particle's
  * reference neighbours are of its own part only, each part its own
  * continuum; the parts meet through contact_current.cl's contact, searched
  * on the current positions.
  *
- * The neighbour grid is built once on the reference positions (the host
- * never re-sorts in this formulation) and every pair test uses them.
+ * The neighbour grid is built on the reference positions (the host sorts
+ * again only at a reference update) and every pair test uses them.
  * Notation: X reference position (pos0), x current, g_ij = grad_X W(|X_i -
  * X_j|) (the gradient with respect to X_i), V0_j = m_j / rho0_j,
  * C_i = (sum_j V0_j (X_j - X_i) (x) g_ij)^-1 the reference correction
