@@ -153,11 +153,12 @@ void solver_build_options(const struct sph_case *c, char *options, size_t size)
     const size_t used = strlen(options);
     /* SPH_BUILD_OPTIONS: kernel developers' experiments, extra -D or -cl-* options */
     const char *extra = getenv("SPH_BUILD_OPTIONS");
-    snprintf(options + used, size - used, " -DSPH_LANES=%d%s%s%s%s %s", solver_lanes(c),
+    snprintf(options + used, size - used, " -DSPH_LANES=%d%s%s%s%s%s %s", solver_lanes(c),
              solver_lanes(c) > 1 && !solver_uses_lane_lists(c) ? " -DSPH_LANE_CELL_WALK" : "",
              c->projectile.enabled && c->projectile.boundary_integral ? " -DSPH_SPHERE_WALL" : "",
              num->tensor_smoothing ? " -DSPH_TENSOR_SMOOTHING" : "",
-             case_has_part_contact(c) ? " -DSPH_PART_CONTACT" : "", extra ? extra : "");
+             case_has_part_contact(c) ? " -DSPH_PART_CONTACT" : "",
+             num->reference_update > 0 ? " -DSPH_REFERENCE_UPDATE" : "", extra ? extra : "");
 }
 
 /* The largest element of the fields in use (persistent ones only, or all). */

@@ -8,9 +8,9 @@
  * power times dt is the exact work of the step's load.
  * reads: pos, displacement, vel_half, xsph_velocity, mass, energy, rho,
  * sound_speed, flags, id, wall_force (with walls), viscous_heating,
- * hourglass_power, deformation_gradient and reference_offset (total
- * Lagrangian: the largest Green strain, the probe's displacement from the
- * initial position), smoothing_metric and
+ * hourglass_power and reference_offset (total Lagrangian: the probe's
+ * displacement from the initial position), deformation_gradient
+ * (numerics.reference_update: the largest Green strain), smoothing_metric and
  * smoothing_reach (numerics.smoothing tensor: the time step's signal over
  * the shortest axis); writes: partials.
  */
@@ -20,7 +20,7 @@ static inline bool slot_is_max(int slot)
            slot == SPH_RED_MAX_DISTORTION;
 }
 
-#ifdef SPH_TOTAL_LAGRANGIAN
+#ifdef SPH_REFERENCE_UPDATE
 /* |E|, the Frobenius norm of the Green strain E = (F^T F - I) / 2 against
  * the reference: zero for a rigid motion, the measure numerics.
  * reference_update compares with */
@@ -53,6 +53,9 @@ __kernel __attribute__((reqd_work_group_size(REDUCE_WG, 1, 1))) void reduce_step
     __global const real *restrict smoothing_reach, __constant const struct sph_run_params *run,
     const real4 load_force, __global real *restrict partials, const int n)
 {
+#ifndef SPH_TOTAL_LAGRANGIAN
+    (void)reference_offset;
+#endif
 #ifndef SPH_TENSOR_SMOOTHING
     (void)smoothing_metric;
     (void)smoothing_reach;
@@ -91,19 +94,23 @@ __kernel __attribute__((reqd_work_group_size(REDUCE_WG, 1, 1))) void reduce_step
         mine[SPH_RED_KINETIC] += (real)0.5 * mass[i] * dot(v, v);
         mine[SPH_RED_INTERNAL] += mass[i] * energy[i];
         mine[SPH_RED_VISCOUS_POWER] += mass[i] * viscous_heating[i];
-#ifdef SPH_TOTAL_LAGRANGIAN /* these fields exist only then */
+#ifdef SPH_TOTAL_LAGRANGIAN /* hourglass_power exists only then */
         mine[SPH_RED_HOURGLASS_POWER] += mass[i] * hourglass_power[i];
-        mine[SPH_RED_MAX_DISTORTION] =
-            fmax(mine[SPH_RED_MAX_DISTORTION], green_strain_norm(deformation_gradient[i]));
-        const vec u_reference = reference_offset[i];
 #else
         (void)hourglass_power;
+#endif
+#ifdef SPH_REFERENCE_UPDATE /* F read only where an update may follow (64 B a particle in 3-D) */
+        mine[SPH_RED_MAX_DISTORTION] =
+            fmax(mine[SPH_RED_MAX_DISTORTION], green_strain_norm(deformation_gradient[i]));
+#else
         (void)deformation_gradient;
-        (void)reference_offset;
-        const vec u_reference = (vec)0;
 #endif
         if (flag & SPH_FLAG_PROBE) {
-            const vec u = displacement[i] + u_reference;
+#ifdef SPH_TOTAL_LAGRANGIAN /* from the initial position, not the reference */
+            const vec u = displacement[i] + reference_offset[i];
+#else
+            const vec u = displacement[i];
+#endif
             mine[SPH_RED_PROBE_DISP_X] += u.x;
             mine[SPH_RED_PROBE_DISP_Y] += u.y;
 #if SPH_DIM == 3

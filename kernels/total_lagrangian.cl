@@ -120,7 +120,8 @@ tl_correction(__global const vec *restrict pos0, __global const real *restrict m
     real c[3][3];
     csph_correction(moment, c);
     csph[i] = symt_store(c); /* symmetric: grad W_ij is along X_ij */
-    real identity[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    real identity[3][3];
+    matrix_identity(identity);
     first_piola[i] = tl_first_piola(reference_density[i] / rho[i], pressure[i],
                                     deviatoric_stress[i], identity, c);
 }
@@ -149,7 +150,8 @@ __kernel void tl_reference_reset(__global const vec *restrict pos, __global vec 
     pos0[i] = pos[i];
     displacement[i] = (vec)0;
     reference_density[i] = rho[i];
-    real identity[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    real identity[3][3];
+    matrix_identity(identity);
     deformation_gradient[i] = fullt_store(identity);
 }
 
