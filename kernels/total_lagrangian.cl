@@ -347,13 +347,31 @@ static inline void tl_gather(
 
 /* Hourglass control (after Ganzenmueller 2015, eqs. 18-20): the pair
  * separation predicted by the mean deformation gradient of the two
- * particles, F_ij X_ji with F_ij = (F_i + F_j) / 2, is compared with the
- * actual x_ji; the mismatch along the pair (zero for every linear
- * displacement field, so it adds no stiffness to a homogeneous
- * deformation) is pulled back by a pair force of modulus alpha E V0_i V0_j
- * W(X_ij) / X_ij^2 per metre of mismatch. Adds that force over m_i (an
- * acceleration) to acc and its power -1/2 v_ij . a to power, in the lanes
- * of `near` whose pair is apart (x_ij != 0). */
+ * particles, p_ij = F_ij X_ij with F_ij = (F_i + F_j) / 2, is compared with
+ * the actual x_ij, and the whole mismatch p_ij - x_ij (zero for every
+ * linear displacement field, so it adds no stiffness to a homogeneous
+ * deformation) is pulled back by a pair force of alpha E V0_i V0_j W(X_ij) /
+ * X_ij^2 per metre of mismatch: a linear spring between x_ij and p_ij.
+ * Ganzenmueller's force keeps only the mismatch's component along x_ij and
+ * acts along x_ij (a central force). That force, repulsive on a pair closer
+ * than predicted, has a transverse stiffness of -|force| / |x_ij|, which
+ * grows without bound as a pair comes together: after reference updates
+ * the 3-D copper rod at 0.2 mm had pairs 0.1 dx apart on its face whose
+ * particles oscillated across the pair at 570 m/s, gathered a plastic
+ * strain of 50 and took 3.4% of the energy (docs/validation_taylor.md,
+ * "The hourglass spring on the whole mismatch"). The spring on the whole
+ * mismatch has the stiffness alpha E V0 V0 W / X^2 in every direction
+ * whatever |x_ij|; its pair forces are equal and opposite (momentum is
+ * conserved) but not along x_ij, so it exerts a couple x_ij x f_ij, of
+ * the order of the mismatch, on non-linear motion.
+ * X_ij^2 is taken no smaller than the lattice spacing's square: on the
+ * first lattice no pair is closer, but a reference taken by
+ * numerics.reference_update from a body squashed threefold has pairs at
+ * dx / 3, whose springs, nine times stiffer, outran the time step (the
+ * 3-D 42CrMo4 bar at 0.4 mm: the springs fed 2-16% of the impact energy
+ * into the motion at alpha 0.1-0.3, and blew up at 0.01).
+ * Adds that force over m_i (an acceleration) to acc and its power
+ * -1/2 v_ij . a to power, in the lanes of `near`. */
 static inline void tl_hourglass(const struct tl_lanes_i *I, fullt f_j_packed, const realv xij[3],
                                 const realv big_xij[3], realv r02, realv w0, real volume_j,
                                 real spacing2, const realv vij[3], maskv near, realv acc[3],
@@ -361,36 +379,18 @@ static inline void tl_hourglass(const struct tl_lanes_i *I, fullt f_j_packed, co
 {
     real f_j[3][3];
     fullt_load(f_j_packed, f_j);
-    realv r2 = (realv)0, mismatch_along = (realv)0;
-#pragma unroll
-    for (int a = 0; a < SPH_DIM; ++a)
-        r2 += xij[a] * xij[a];
-    const maskv apart = near & (r2 > (real)0);
-    /* (x_ji - F_ij X_ji) . x_ji = (F_ij X_ij - x_ij) . x_ij */
+    const realv stiffness =
+        SPH_SELECT((realv)0, I->hourglass * volume_j * w0 / fmax(r02, (realv)spacing2), near);
 #pragma unroll
     for (int a = 0; a < SPH_DIM; ++a) {
         realv predicted = (realv)0;
 #pragma unroll
         for (int c = 0; c < SPH_DIM; ++c)
             predicted += (real)0.5 * (I->f[a][c] + f_j[a][c]) * big_xij[c];
-        mismatch_along += (predicted - xij[a]) * xij[a];
-    }
-    /* the modulus over r, so that a = s x_ij: one division. X_ij^2 is
-     * taken no smaller than the lattice spacing's square: on the first
-     * lattice no pair is closer, but a reference taken by numerics.
-     * reference_update from a body squashed threefold has pairs at dx / 3,
-     * whose springs, nine times stiffer, outran the time step (the 3-D
-     * 42CrMo4 bar at 0.4 mm: the springs fed 2-16% of the impact energy
-     * into the motion at alpha 0.1-0.3, and blew up at 0.01) */
-    const realv s = SPH_SELECT((realv)0,
-                               I->hourglass * volume_j * w0 * mismatch_along /
-                                   SPH_SELECT((realv)1, fmax(r02, (realv)spacing2) * r2, apart),
-                               apart);
-    /* a = s x_ij: a stretched pair (mismatch_along < 0) pulls i towards j */
-#pragma unroll
-    for (int a = 0; a < SPH_DIM; ++a) {
-        acc[a] += s * xij[a];
-        *power -= (real)0.5 * s * vij[a] * xij[a];
+        /* a pair closer than predicted (predicted - x_ij along x_ij) pushes i away */
+        const realv pull = stiffness * (predicted - xij[a]);
+        acc[a] += pull;
+        *power -= (real)0.5 * vij[a] * pull;
     }
 }
 
