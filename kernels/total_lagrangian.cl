@@ -355,11 +355,14 @@ static inline void tl_gather(
  * Ganzenmueller's force keeps only the mismatch's component along x_ij and
  * acts along x_ij (a central force). That force, repulsive on a pair closer
  * than predicted, has a transverse stiffness of -|force| / |x_ij|, which
- * grows without bound as a pair comes together: after reference updates
- * the 3-D copper rod at 0.2 mm had pairs 0.1 dx apart on its face whose
- * particles oscillated across the pair at 570 m/s, gathered a plastic
- * strain of 50 and took 3.4% of the energy (docs/validation_taylor.md,
- * "The hourglass spring on the whole mismatch"). The spring on the whole
+ * grows without bound as a pair comes together. After reference updates
+ * the 3-D copper rod at 0.2 mm has pairs 0.1 dx apart on its face; with
+ * the central force two of its particles oscillated about a fixed place
+ * at up to 570 m/s, gathered a plastic strain of 50 and took 3.4% of the
+ * energy, and with this spring they do not (that the transverse
+ * stiffness drove them is the explanation, not measured pair by pair:
+ * docs/validation_taylor.md, "The hourglass spring on the whole
+ * mismatch"). The spring on the whole
  * mismatch has the stiffness alpha E V0 V0 W / X^2 in every direction
  * whatever |x_ij|; its pair forces are equal and opposite (momentum is
  * conserved) but not along x_ij, so it exerts a couple x_ij x f_ij, of
