@@ -20,8 +20,11 @@ int health_watch_open(struct health_watch *h, struct solver *s, int count_now)
     h->damaged = CHECKED_CALLOC((size_t)s->n_scene + 1, 1, "damage marks");
     if (!h->initial_neighbours || !h->neighbours || !h->damaged)
         return 1;
-    if (count_now)
-        solver_neighbour_counts(s, h->initial_neighbours);
+    h->baseline_updates = -1; /* a resumed run counts its reference's at the first snapshot */
+    if (count_now) {
+        solver_neighbour_counts(s, h->initial_neighbours, 1);
+        h->baseline_updates = s->reference_updates;
+    }
     return 0;
 }
 
@@ -78,9 +81,13 @@ int health_watch_row(struct health_watch *h, const struct sph_case *c,
         snprintf(h->reason, sizeof h->reason, "smallest pair distance %.3g dx below %.3g dx",
                  r->min_pair_distance / dx, limit->min_pair_distance);
     else if (r->clumped_fraction > limit->clumped_fraction)
-        snprintf(h->reason, sizeof h->reason,
-                 "%.3g%% of particles clumped (a neighbour closer than dx/2), above %.3g%%",
-                 100 * r->clumped_fraction, 100 * limit->clumped_fraction);
+        snprintf(h->reason, sizeof h->reason, "%.3g%% of particles clumped (%s), above %.3g%%",
+                 100 * r->clumped_fraction,
+                 c->numerics.total_lagrangian
+                     ? "a neighbour closer than half the separation their deformation gives "
+                       "the pair"
+                     : "a neighbour closer than dx/2",
+                 100 * limit->clumped_fraction);
     else
         return 0;
     return unhealthy(h, c, at, message, size);
@@ -89,7 +96,15 @@ int health_watch_row(struct health_watch *h, const struct sph_case *c,
 void health_watch_integrity(struct health_watch *h, struct solver *s, const struct sph_case *c,
                             struct run_clock at, char *message, size_t size)
 {
-    solver_neighbour_counts(s, h->neighbours);
+    /* the total Lagrangian form measures a loss against the reference of
+     * now: after a reference update, the neighbours it was taken with (the
+     * set does not change until the next, so counting them at a later
+     * snapshot gives the same) */
+    if (s->total_lagrangian && h->baseline_updates != s->reference_updates) {
+        solver_neighbour_counts(s, h->initial_neighbours, 1);
+        h->baseline_updates = s->reference_updates;
+    }
+    solver_neighbour_counts(s, h->neighbours, 0);
     if (cl_failed()) /* the counts were not read: the run is unwinding */
         return;
     int lost = 0;

@@ -52,8 +52,9 @@ struct health_watch {
     char reason[256];                     /* why, from the first crossing */
     int stop;                             /* a snapshot found a tear and health.stop asks to stop */
     int *initial_neighbours, *neighbours; /* per particle, by id */
-    char *damaged;                        /* per particle (by id), from the last snapshot */
-    double max_neighbour_loss;            /* largest fraction that lost a third of its neighbours */
+    long baseline_updates;     /* total Lagrangian: the reference initial_neighbours counts on */
+    char *damaged;             /* per particle (by id), from the last snapshot */
+    double max_neighbour_loss; /* largest fraction that lost a third of its neighbours */
 };
 /* where and when, for the messages */
 struct run_clock {

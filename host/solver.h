@@ -490,8 +490,10 @@ struct health_reading {
 };
 void solver_health(struct solver *s, struct health_reading *out);
 
-/* Neighbours within the support per particle, in original order (by id). */
-void solver_neighbour_counts(struct solver *s, int *count_by_id);
+/* Neighbours within the support per particle, in original order (by id).
+ * Total Lagrangian form: its reference neighbours not torn apart, or with
+ * reference_baseline every reference neighbour (kernels/health.cl). */
+void solver_neighbour_counts(struct solver *s, int *count_by_id, int reference_baseline);
 void host_fields_free(struct host_fields *f);
 
 #endif

@@ -650,12 +650,13 @@ void solver_health(struct solver *s, struct health_reading *out)
 /* Each particle's neighbour count into count[]: in the updated Lagrangian
  * form the health records' (the lane loop's search), in the total
  * Lagrangian form health_neighbour_count's (its reference neighbours not
- * torn apart). */
-static void neighbour_counts_of_slots(struct solver *s, int *count)
+ * torn apart, or with `reference_baseline` all of them). */
+static void neighbour_counts_of_slots(struct solver *s, int *count, int reference_baseline)
 {
     if (s->total_lagrangian) {
         refresh_ghost_positions(s);
-        SET_ARGS(s, s->k.neighbour_count, MEM("neighbour_count", s->gather_spare), INT("n", s->n));
+        SET_ARGS(s, s->k.neighbour_count, MEM("neighbour_count", s->gather_spare),
+                 INT("every_reference_neighbour", reference_baseline), INT("n", s->n));
         solver_launch(s, s->k.neighbour_count, (size_t)s->n, 0);
         CL_CHECK(clEnqueueReadBuffer(s->dev->queue, s->gather_spare, CL_TRUE, 0,
                                      sizeof(int) * (size_t)s->n, count, 0, NULL, NULL));
@@ -676,7 +677,7 @@ static void neighbour_counts_of_slots(struct solver *s, int *count)
     free(raw);
 }
 
-void solver_neighbour_counts(struct solver *s, int *count_by_id)
+void solver_neighbour_counts(struct solver *s, int *count_by_id, int reference_baseline)
 {
     int *count = CHECKED_CALLOC((size_t)s->n, sizeof(int), "neighbour counts");
     int *id = CHECKED_CALLOC((size_t)s->n, sizeof(int), "neighbour count ids");
@@ -684,7 +685,7 @@ void solver_neighbour_counts(struct solver *s, int *count_by_id)
         free(count), free(id);
         return;
     }
-    neighbour_counts_of_slots(s, count);
+    neighbour_counts_of_slots(s, count, reference_baseline);
     CL_CHECK(clEnqueueReadBuffer(s->dev->queue, s->field[FIELD_ID], CL_TRUE, 0,
                                  sizeof(int) * (size_t)s->n, id, 0, NULL, NULL));
     solver_domain_rows(s, id, s->n);

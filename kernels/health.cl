@@ -5,21 +5,53 @@
  */
 
 #ifdef SPH_TOTAL_LAGRANGIAN
+/* |F_ij X_ij|^2, F_ij = (F_i + F_j) / 2: the squared separation the two
+ * particles' deformation gives the pair (X = pos0, the reference). The
+ * total Lagrangian form's health measures compare a pair with it, not with
+ * a fixed length: a Taylor face squashed tenfold has pairs far closer than
+ * dx / 2 and its lip pairs stretched more than twofold by its deformation
+ * alone, which marked every Taylor bar in this form clumped (from about
+ * 6 us) and the copper rod torn; what the form can suffer is a pair that
+ * its F does not bring together (an hourglass mode, particles of one part
+ * passing through each other) or pull apart (a tear). */
+static inline real tl_predicted_separation2(int i, int j, __global const vec *restrict pos0,
+                                            __global const fullt *restrict deformation_gradient)
+{
+    real f_i[3][3], f_j[3][3];
+    fullt_load(deformation_gradient[i], f_i);
+    fullt_load(deformation_gradient[j], f_j);
+    const vec big_xij = pos0[i] - pos0[j];
+    real predicted2 = 0;
+#pragma unroll
+    for (int a = 0; a < SPH_DIM; ++a) {
+        real p = 0;
+#pragma unroll
+        for (int c = 0; c < SPH_DIM; ++c)
+            p += (real)0.5 * (f_i[a][c] + f_j[a][c]) * vec_get(big_xij, c);
+        predicted2 += p * p;
+    }
+    return predicted2;
+}
+
 /* Neighbours of each particle for the integrity measure (particles that
  * lost more than a third of their initial neighbours) in the total
  * Lagrangian form, where the interacting pairs change only at a reference
  * update: reference neighbours (within the support on the reference:
- * pos0) whose separation has not more
- * than doubled, so that only a tear, not the finite strain of a whole body,
- * counts as a loss. The updated Lagrangian form counts the neighbours
- * within the support, health_pairs' records (host/step.c
- * solver_neighbour_counts).
- * reads pos, pos0; writes neighbour_count. */
+ * pos0) no further apart than twice the separation their deformation gives
+ * them (tl_predicted_separation2), so that only a tear, not the finite
+ * strain of a whole body, counts as a loss; with every_reference_neighbour
+ * all of them, the count a particle had when the reference was taken (the
+ * measure's baseline, host/health_watch.c). The updated Lagrangian form
+ * counts the neighbours within the support, health_pairs' records
+ * (host/step.c solver_neighbour_counts).
+ * reads pos, pos0, deformation_gradient; writes neighbour_count. */
 __kernel void health_neighbour_count(__global const vec *restrict pos,
                                      __global const vec *restrict pos0,
+                                     __global const fullt *restrict deformation_gradient,
                                      __global const int *restrict flags, GRID_ARGS,
                                      __constant const struct sph_run_params *run,
-                                     __global int *restrict neighbour_count, const int n)
+                                     __global int *restrict neighbour_count,
+                                     const int every_reference_neighbour, const int n)
 {
     const int i = get_global_id(0);
     if (i >= n)
@@ -33,7 +65,11 @@ __kernel void health_neighbour_count(__global const vec *restrict pos,
         const vec d = xi - pos[j];
         const vec d0 = pos0[i] - pos0[j];
         const real r02 = dot(d0, d0);
-        c += (j != i && r02 < support2 && dot(d, d) <= (real)4 * r02) ? 1 : 0;
+        c += (j != i && r02 < support2 &&
+              (every_reference_neighbour ||
+               dot(d, d) <= (real)4 * tl_predicted_separation2(i, j, pos0, deformation_gradient)))
+                 ? 1
+                 : 0;
     }
     END_FOR_EACH_NEIGHBOUR
     neighbour_count[i] = c;
@@ -77,11 +113,13 @@ static inline real kernel_d2wdr2(real r, real h)
 }
 
 /* Particle i's record from its neighbour count and nearest neighbour
- * (offset `nearest`, squared distance nearest2) */
+ * (offset `nearest`, squared distance nearest2); `collapsed` is the total
+ * Lagrangian form's clumping verdict (health_pairs there), unused in the
+ * updated form */
 static inline struct health_record health_record_of(
-    int i, int count, real nearest2, const real nearest[3], __global const real *restrict pressure,
-    __global const symt *restrict deviatoric_stress, __global const int *restrict flags,
-    __constant const struct sph_run_params *run, const real dx)
+    int i, int count, real nearest2, const real nearest[3], bool collapsed,
+    __global const real *restrict pressure, __global const symt *restrict deviatoric_stress,
+    __global const int *restrict flags, __constant const struct sph_run_params *run, const real dx)
 {
     /* a fixed particle's count serves the integrity measure only */
     struct health_record rec = {(real)INFINITY,
@@ -95,7 +133,13 @@ static inline struct health_record health_record_of(
     /* failed material (a fluid without tension: no tensile instability)
      * compacts against a projectile's contact; clumping counts intact
      * material only */
-    if (r < (real)0.5 * dx && !(flags[i] & SPH_FLAG_DAMAGED))
+#ifdef SPH_TOTAL_LAGRANGIAN
+    const bool clumped = collapsed;
+#else
+    (void)collapsed;
+    const bool clumped = r < (real)0.5 * dx;
+#endif
+    if (clumped && !(flags[i] & SPH_FLAG_DAMAGED))
         rec.code |= SPH_HEALTH_CLUMPED_MARK;
     real sigma[3][3], normal[3];
     total_stress(pressure[i], deviatoric_stress[i], sigma);
@@ -126,11 +170,17 @@ static inline struct health_record health_record_of(
 #endif
 /* One particle per work-item over the reference cells (FOR_EACH_NEIGHBOUR),
  * and with parts (SPH_PART_CONTACT) the other parts' particles near it now
- * through the contact search's cells, so that the nearest pair (clumping)
- * is of any part, as in the updated form; the count stays the walk's.
- * reads pos, pressure, deviatoric_stress, flags (and contact_keys,
- * contact_cell_start, contact_cell_end); writes records. */
-__kernel void health_pairs(__global const vec *restrict pos, __global const real *restrict pressure,
+ * through the contact search's cells, so that the nearest pair is of any
+ * part, as in the updated form; the count stays the walk's. A particle is
+ * clumped when a neighbour of its own part is closer than half the
+ * separation their deformation gives the pair (tl_predicted_separation2),
+ * or one of another part closer than dx / 2.
+ * reads pos, pos0, deformation_gradient, pressure, deviatoric_stress,
+ * flags (and contact_keys, contact_cell_start, contact_cell_end); writes
+ * records. */
+__kernel void health_pairs(__global const vec *restrict pos, __global const vec *restrict pos0,
+                           __global const fullt *restrict deformation_gradient,
+                           __global const real *restrict pressure,
                            __global const symt *restrict deviatoric_stress,
                            __global const int *restrict flags, GRID_ARGS,
                            __constant const struct sph_run_params *run, const real dx,
@@ -145,10 +195,14 @@ __kernel void health_pairs(__global const vec *restrict pos, __global const real
         return;
     }
     const real q2 = (run->support / run->h) * (run->support / run->h);
+    const real scale = spacing_scale(flags[i]), /* another part's pair: dx / 2 */
+        apart2 = (real)0.25 * dx * dx * scale * scale;
     const vec xi = pos[i];
+    const int part = SPH_PART_OF(flags[i]);
     real nearest2 = INFINITY;
     vec nearest = VEC_ZERO;
     int count = 0;
+    bool collapsed = false;
     FOR_EACH_NEIGHBOUR(i, j)
     {
         const vec d = pos[j] - xi;
@@ -160,20 +214,33 @@ __kernel void health_pairs(__global const vec *restrict pos, __global const real
                 nearest2 = r2;
                 nearest = d;
             }
+            /* closer than half the separation their deformation gives
+             * them; another part's pair, which no F relates, dx / 2 */
+            collapsed |=
+                r2 < (SPH_PART_OF(flags[j]) == part
+                          ? (real)0.25 * tl_predicted_separation2(i, j, pos0, deformation_gradient)
+                          : apart2);
         }
     }
     END_FOR_EACH_NEIGHBOUR
 #ifdef SPH_PART_CONTACT
+    real other2 = INFINITY;
+    vec other = VEC_ZERO;
     contact_nearest_other_part(i, xi, pos, flags, contact_keys, contact_cell_start,
                                contact_cell_end, grid_origin, grid_inv_cell_size, grid_dims,
-                               &nearest2, &nearest);
+                               &other2, &other);
+    collapsed |= other2 < apart2;
+    if (other2 < nearest2) {
+        nearest2 = other2;
+        nearest = other;
+    }
 #endif
     real offset[3];
 #pragma unroll
     for (int a = 0; a < 3; ++a)
         offset[a] = vec_get(nearest, a);
-    records[i] =
-        health_record_of(i, count, nearest2, offset, pressure, deviatoric_stress, flags, run, dx);
+    records[i] = health_record_of(i, count, nearest2, offset, collapsed, pressure,
+                                  deviatoric_stress, flags, run, dx);
 }
 #else
 /* One work-item per lane block (FOR_EACH_LANE_NEIGHBOUR).
@@ -248,7 +315,7 @@ __kernel void health_pairs(__global const vec *restrict pos, __global const real
         const real offset[3] = {lane_of(nearest[0], l), lane_of(nearest[1], l),
                                 lane_of(nearest[2], l)};
         records[i] = health_record_of(i, (int)lane_of(count, l), lane_of(nearest2, l), offset,
-                                      pressure, deviatoric_stress, flags, run, dx);
+                                      false, pressure, deviatoric_stress, flags, run, dx);
     }
 }
 #endif
