@@ -229,7 +229,7 @@ struct case_output {
 /* Thresholds past which a run is marked unhealthy (host/run.c). */
 struct case_health {
     double min_pair_distance; /* over dx; default 0 (off) */
-    double clumped_fraction;  /* default 0.01 */
+    double clumped_fraction;  /* default 0.01, 0.001 in the total Lagrangian form */
     double energy_error;      /* default 0.05; undamped runs only */
     int stop;                 /* stop the run when unhealthy; default false */
 };
