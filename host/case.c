@@ -1250,8 +1250,7 @@ static int check_case(struct ctx *x, const struct frame *fr, void *base)
      * deformation (kernels/health.cl), which reads 0 in every healthy run
      * measured there and 0.38% where two particles of the copper rod's face
      * collapsed (docs/validation_taylor.md, "The hourglass spring on the
-     * whole mismatch"); the updated form's dx / 2 test reads 1% where
-     * pairing begins. */
+     * whole mismatch"); the updated form keeps its dx / 2 test's 1%. */
     if (isnan(c->health.clumped_fraction))
         c->health.clumped_fraction = c->numerics.total_lagrangian ? 0.001 : 0.01;
     for (int b = 0; b < c->body_count; ++b)
